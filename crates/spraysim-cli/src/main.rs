@@ -1,0 +1,156 @@
+//! `spraysim`: command-line front end of the spraysim library.
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use spraysim::scenario::Preset;
+use spraysim::{Metrics, Scenario, Simulation};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Particle simulation of construction spraying: shotcrete, spray painting, abrasive blasting.
+#[derive(Parser)]
+#[command(name = "spraysim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario (the built-in default scene when none is given) and write its outputs.
+    Run {
+        /// Scenario file (TOML).
+        scenario: Option<PathBuf>,
+        /// Output directory (overrides `[output] directory`).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Worker threads; 0 uses every core. Results do not depend on it.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+        /// No progress bar or summary.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// Validate a scenario without running it; prints the resolved scenario with `--resolved`.
+    Check {
+        /// Scenario file (TOML).
+        scenario: PathBuf,
+        /// Print the fully resolved scenario.
+        #[arg(long)]
+        resolved: bool,
+    },
+    /// Print each process preset as TOML to paste into a scenario.
+    Presets,
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Run { scenario, output, threads, quiet } => run(scenario.as_deref(), output, threads, quiet),
+        Command::Check { scenario, resolved } => {
+            let sc = Scenario::from_path(&scenario)?;
+            if resolved {
+                print!("{}", sc.to_toml());
+            } else {
+                println!("{}: valid ({} targets, {} obstacles)", scenario.display(), sc.targets.len(), sc.obstacles.len());
+            }
+            Ok(())
+        }
+        Command::Presets => {
+            print!("{}", presets_toml());
+            Ok(())
+        }
+    }
+}
+
+fn load(path: Option<&Path>) -> Result<Scenario> {
+    Ok(match path {
+        Some(p) => Scenario::from_path(p)?,
+        None => Scenario::default_scene(),
+    })
+}
+
+fn run(path: Option<&Path>, output: Option<PathBuf>, threads: usize, quiet: bool) -> Result<()> {
+    let mut scenario = load(path)?;
+    if let Some(dir) = &output {
+        scenario.output.directory = dir.display().to_string();
+    }
+    let dir = PathBuf::from(&scenario.output.directory);
+    // Refuse an unwritable directory before spending time on the run.
+    spraysim::io::check_writable(&dir).with_context(|| format!("output directory {} is not writable", dir.display()))?;
+    let mut sim = Simulation::new(&scenario)?;
+    sim.set_threads(threads)?;
+
+    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(sim.total_steps()) };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40.cyan/blue} {percent:>3}% t = {msg} [{elapsed_precise}, eta {eta}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let redraw = (sim.total_steps() / 200).max(1);
+    sim.run(|s| {
+        if s.steps_done() % redraw == 0 || s.is_finished() {
+            let wall = start.elapsed().as_secs_f64().max(1e-9);
+            bar.set_position(s.steps_done());
+            bar.set_message(format!("{:.3} s, {:.2}× real time, {} in flight", s.time(), s.time() / wall, s.swarm().alive()));
+        }
+    });
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+
+    let files = spraysim::io::write_outputs(&sim, &dir).with_context(|| format!("writing outputs to {}", dir.display()))?;
+    if !quiet {
+        print_summary(&sim.metrics(), wall);
+        println!("wrote {} files to {}", files.len(), dir.display());
+    }
+    Ok(())
+}
+
+fn print_summary(m: &Metrics, wall: f64) {
+    let pct = |a: f64, b: f64| if b > 0.0 { 100.0 * a / b } else { 0.0 };
+    let e = m.emitted;
+    println!("simulated {:.3} s in {:.2} s ({:.2}× real time)", m.time, wall, m.time / wall.max(1e-9));
+    println!("{:<22}{:>12}{:>16}{:>9}", "fate", "particles", "volume [m³]", "share");
+    let f = &m.fates;
+    for (name, a) in [
+        ("emitted", e),
+        ("stuck on targets", f.stuck_on_targets),
+        ("stuck on obstacles", f.stuck_on_obstacles),
+        ("left the domain", f.left_domain),
+        ("expired", f.expired),
+        ("in flight", f.in_flight),
+    ] {
+        println!("{name:<22}{:>12}{:>16.6e}{:>8.2}%", a.count, a.volume, pct(a.volume, e.volume));
+    }
+    let show = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2} %", 100.0 * v));
+    println!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
+    println!("{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}", "target", "hits", "mean [mm]", "max [mm]", "CV", "covered");
+    for t in &m.targets {
+        let th = &t.thickness;
+        println!(
+            "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%",
+            t.name,
+            t.hits,
+            th.mean * 1e3,
+            th.max * 1e3,
+            th.cv,
+            100.0 * th.covered_fraction
+        );
+    }
+}
+
+/// Each preset's `[process]`, `[process.impact]` and `[emitter]` as TOML.
+fn presets_toml() -> String {
+    #[derive(serde::Serialize)]
+    struct Sections {
+        process: spraysim::scenario::ProcessParams,
+        emitter: spraysim::scenario::EmitterParams,
+    }
+    let mut out = String::from("# Process presets (units: m, s, kg, degrees). Paste one into a scenario and edit.\n");
+    for p in Preset::ALL {
+        let text = toml::to_string(&Sections { process: p.process(), emitter: p.emitter() })
+            .unwrap_or_else(|e| format!("# cannot print preset: {e}\n"));
+        out.push_str(&format!("\n# ---- {} ----\n{text}", p.name()));
+    }
+    out
+}

@@ -1,0 +1,203 @@
+//! Particle emission: nozzle aperture shapes, speed sampling and spray-cone direction
+//! distributions (the paper's Emitter, Figures 2 and 3).
+
+use crate::nozzle::NozzleFrame;
+use glam::DVec3;
+use rand::Rng;
+use rand_distr::{Distribution, Normal};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// Shape of the nozzle's aperture, in the plane perpendicular to the spray axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ApertureShape {
+    /// All particles start at the nozzle point (air spray gun).
+    Point,
+    /// Uniform over a disk of `diameter` (shotcrete, blasting nozzles).
+    Circle,
+    /// Uniform over a `width × height` rectangle (fan nozzles).
+    Rectangle,
+    /// Uniform over a ring between `inner_diameter` and `outer_diameter` (rotary bells).
+    Annulus,
+}
+
+/// How emission directions spread within the spray cone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DirectionKind {
+    /// θ = θ_half · s, s ~ U(0, 1): uniform in polar angle, concentrated at the axis (Fig. 3a).
+    UniformPolar,
+    /// θ = θ_half · s, s ~ N(μ, σ) truncated to `[0, 1]` (Fig. 3b).
+    TruncatedNormal,
+    /// Uniform over the cone's solid angle: uniform flux per steradian.
+    UniformSolidAngle,
+    /// Fan: uniform angles in two planes, `fan_wide_angle` along the nozzle's width axis and
+    /// `fan_narrow_angle` across it.
+    Fan,
+}
+
+/// Resolved direction distribution, angles in rad.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Direction {
+    /// See [`DirectionKind::UniformPolar`].
+    UniformPolar,
+    /// See [`DirectionKind::TruncatedNormal`]; μ and σ in units of θ_half.
+    TruncatedNormal {
+        /// Mean of s.
+        mu: f64,
+        /// Standard deviation of s.
+        sigma: f64,
+    },
+    /// See [`DirectionKind::UniformSolidAngle`].
+    UniformSolidAngle,
+    /// See [`DirectionKind::Fan`]; full angles, rad.
+    Fan {
+        /// Full angle along the width axis, rad.
+        wide: f64,
+        /// Full angle across it, rad.
+        narrow: f64,
+    },
+}
+
+/// Resolved aperture, dimensions in m.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Aperture {
+    /// Point source.
+    Point,
+    /// Disk of radius `r`, m.
+    Circle {
+        /// Radius, m.
+        r: f64,
+    },
+    /// Rectangle with half sizes along the width and height axes, m.
+    Rectangle {
+        /// Half width, m.
+        hw: f64,
+        /// Half height, m.
+        hh: f64,
+    },
+    /// Ring between radii `r_in` and `r_out`, m.
+    Annulus {
+        /// Inner radius, m.
+        r_in: f64,
+        /// Outer radius, m.
+        r_out: f64,
+    },
+}
+
+/// Maximum draws for the truncated normal before falling back to clamping; validation refuses
+/// μ, σ whose acceptance is so low that this could matter.
+const MAX_REJECTIONS: usize = 1000;
+
+/// A configured emitter with its fractional spawn carry.
+#[derive(Clone, Debug)]
+pub struct Emitter {
+    /// Aperture.
+    pub aperture: Aperture,
+    /// Direction distribution.
+    pub direction: Direction,
+    /// Half of the full cone angle, rad.
+    pub cone_half_angle: f64,
+    /// Speed range, m/s.
+    pub speed: [f64; 2],
+    /// Particles per second while spraying.
+    pub spawn_rate: f64,
+    /// Material volume carried by each particle, m³ (= flow rate / spawn rate).
+    pub particle_volume: f64,
+    carry: f64,
+}
+
+impl Emitter {
+    /// New emitter with no carry.
+    pub fn new(
+        aperture: Aperture,
+        direction: Direction,
+        cone_half_angle: f64,
+        speed: [f64; 2],
+        spawn_rate: f64,
+        particle_volume: f64,
+    ) -> Self {
+        Emitter { aperture, direction, cone_half_angle, speed, spawn_rate, particle_volume, carry: 0.0 }
+    }
+
+    /// Number of particles to emit over `dt` seconds. The fractional remainder carries over, so
+    /// the count over any duration is `floor(rate × duration)` or one more, never drifting.
+    pub fn spawn_count(&mut self, dt: f64) -> u64 {
+        let want = self.spawn_rate * dt + self.carry;
+        let n = want.floor();
+        self.carry = want - n;
+        n as u64
+    }
+
+    /// Samples a start position (m) and velocity (m/s) in the nozzle's frame.
+    pub fn sample<R: Rng>(&self, frame: &NozzleFrame, rng: &mut R) -> (DVec3, DVec3) {
+        let (du, dw) = self.sample_aperture(rng);
+        let pos = frame.position + frame.width_axis * du + frame.height_axis * dw;
+        let dir = self.sample_direction(frame, rng);
+        let speed = self.speed[0] + (self.speed[1] - self.speed[0]) * rng.random::<f64>();
+        (pos, dir * speed)
+    }
+
+    fn sample_aperture<R: Rng>(&self, rng: &mut R) -> (f64, f64) {
+        match self.aperture {
+            Aperture::Point => (0.0, 0.0),
+            Aperture::Rectangle { hw, hh } => {
+                (hw * (2.0 * rng.random::<f64>() - 1.0), hh * (2.0 * rng.random::<f64>() - 1.0))
+            }
+            Aperture::Circle { r } => polar_point(0.0, r, rng),
+            Aperture::Annulus { r_in, r_out } => polar_point(r_in, r_out, rng),
+        }
+    }
+
+    fn sample_direction<R: Rng>(&self, frame: &NozzleFrame, rng: &mut R) -> DVec3 {
+        let half = self.cone_half_angle;
+        let theta = match self.direction {
+            Direction::Fan { wide, narrow } => {
+                let a = wide * (rng.random::<f64>() - 0.5);
+                let b = narrow * (rng.random::<f64>() - 0.5);
+                let d = frame.axis + frame.width_axis * a.tan() + frame.height_axis * b.tan();
+                return d.normalize();
+            }
+            Direction::UniformPolar => half * rng.random::<f64>(),
+            Direction::UniformSolidAngle => {
+                (1.0 - rng.random::<f64>() * (1.0 - half.cos())).clamp(-1.0, 1.0).acos()
+            }
+            Direction::TruncatedNormal { mu, sigma } => half * truncated_normal_unit(mu, sigma, rng),
+        };
+        let phi = TAU * rng.random::<f64>();
+        let (s, c) = theta.sin_cos();
+        frame.axis * c + (frame.width_axis * phi.cos() + frame.height_axis * phi.sin()) * s
+    }
+}
+
+/// Uniform point on a ring of radii `[r0, r1]` (m), as offsets along the frame's two axes.
+fn polar_point<R: Rng>(r0: f64, r1: f64, rng: &mut R) -> (f64, f64) {
+    let r = (r0 * r0 + rng.random::<f64>() * (r1 * r1 - r0 * r0)).sqrt();
+    let phi = TAU * rng.random::<f64>();
+    (r * phi.cos(), r * phi.sin())
+}
+
+/// A draw from N(μ, σ) truncated to `[0, 1]`, by rejection.
+pub fn truncated_normal_unit<R: Rng>(mu: f64, sigma: f64, rng: &mut R) -> f64 {
+    let Ok(normal) = Normal::new(mu, sigma) else {
+        return mu.clamp(0.0, 1.0);
+    };
+    for _ in 0..MAX_REJECTIONS {
+        let s = normal.sample(rng);
+        if (0.0..=1.0).contains(&s) {
+            return s;
+        }
+    }
+    mu.clamp(0.0, 1.0)
+}
+
+/// Probability that N(μ, σ) falls in `[0, 1]`, the truncated normal's acceptance rate.
+pub fn truncated_normal_mass(mu: f64, sigma: f64) -> f64 {
+    normal_cdf((1.0 - mu) / sigma) - normal_cdf(-mu / sigma)
+}
+
+/// Standard normal cumulative distribution function.
+pub fn normal_cdf(x: f64) -> f64 {
+    0.5 * (1.0 + libm::erf(x / std::f64::consts::SQRT_2))
+}

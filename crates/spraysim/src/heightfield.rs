@@ -1,0 +1,110 @@
+//! The layer deposited on a target face, as a grid of thicknesses.
+
+/// A regular grid over a target face recording deposited thickness and impact counts.
+///
+/// Row index grows along the face's `up`, column index along its `right` (`up × normal`, the
+/// viewer's right looking at the face from the spray side). Cell `(row, col)` is stored at
+/// `row * cols + col`; row 0 is the bottom edge.
+#[derive(Clone, Debug)]
+pub struct HeightField {
+    cols: usize,
+    rows: usize,
+    width: f64,
+    height: f64,
+    thickness: Vec<f64>,
+    hits: Vec<u32>,
+    /// Cell offsets `(col, row)` of the deposit footprint.
+    splat: Vec<(isize, isize)>,
+}
+
+impl HeightField {
+    /// An empty field over a `width × height` (m) face with `cols × rows` cells. Each stuck
+    /// particle's volume is spread evenly over the cells whose centres lie within
+    /// `splat_radius` (m) of the hit cell's centre (just the hit cell when that is 0).
+    pub fn new(width: f64, height: f64, cols: usize, rows: usize, splat_radius: f64) -> Self {
+        let (dx, dy) = (width / cols as f64, height / rows as f64);
+        let reach_x = (splat_radius / dx).floor() as isize;
+        let reach_y = (splat_radius / dy).floor() as isize;
+        let mut splat = Vec::new();
+        for j in -reach_y..=reach_y {
+            for i in -reach_x..=reach_x {
+                let (x, y) = (i as f64 * dx, j as f64 * dy);
+                if x * x + y * y <= splat_radius * splat_radius || (i == 0 && j == 0) {
+                    splat.push((i, j));
+                }
+            }
+        }
+        HeightField {
+            cols,
+            rows,
+            width,
+            height,
+            thickness: vec![0.0; cols * rows],
+            hits: vec![0; cols * rows],
+            splat,
+        }
+    }
+
+    /// Number of columns.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Area of one cell, m².
+    pub fn cell_area(&self) -> f64 {
+        (self.width / self.cols as f64) * (self.height / self.rows as f64)
+    }
+
+    /// Thickness per cell, m, row-major from the bottom row.
+    pub fn thickness(&self) -> &[f64] {
+        &self.thickness
+    }
+
+    /// Impacts per cell (stuck or rebounded), row-major from the bottom row.
+    pub fn hits(&self) -> &[u32] {
+        &self.hits
+    }
+
+    /// Cell index of in-face coordinates `(u, v)` (m from the face centre along right and up),
+    /// clamped to the grid so that hits on the very edge land in the edge cells.
+    #[inline]
+    pub fn cell_at(&self, u: f64, v: f64) -> u32 {
+        let col = (((u / self.width) + 0.5) * self.cols as f64).floor();
+        let row = (((v / self.height) + 0.5) * self.rows as f64).floor();
+        let col = (col.max(0.0) as usize).min(self.cols - 1);
+        let row = (row.max(0.0) as usize).min(self.rows - 1);
+        (row * self.cols + col) as u32
+    }
+
+    /// Counts one impact in `cell`.
+    pub fn add_hit(&mut self, cell: u32) {
+        let h = &mut self.hits[cell as usize];
+        *h = h.saturating_add(1);
+    }
+
+    /// Deposits `volume` (m³) centred on `cell`. The volume is shared evenly over the splat
+    /// footprint's cells inside the grid, so Σ thickness × cell area grows by exactly `volume`
+    /// (up to rounding), at the edges too.
+    pub fn deposit(&mut self, cell: u32, volume: f64) {
+        let (cols, rows) = (self.cols as isize, self.rows as isize);
+        let (row, col) = (cell as isize / cols, cell as isize % cols);
+        let in_grid = |&&(i, j): &&(isize, isize)| {
+            (0..cols).contains(&(col + i)) && (0..rows).contains(&(row + j))
+        };
+        let n = self.splat.iter().filter(in_grid).count();
+        let added = volume / (n as f64 * self.cell_area());
+        for &(i, j) in self.splat.iter().filter(in_grid) {
+            self.thickness[((row + j) * cols + col + i) as usize] += added;
+        }
+    }
+
+    /// Σ thickness × cell area: the volume held by the field, m³.
+    pub fn volume(&self) -> f64 {
+        self.thickness.iter().sum::<f64>() * self.cell_area()
+    }
+}

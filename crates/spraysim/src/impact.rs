@@ -1,0 +1,100 @@
+//! What happens when a particle strikes a surface: stick or rebound (the paper's stochastic
+//! adhesion model), and the rebound's direction and speed.
+
+use glam::DVec3;
+use rand::Rng;
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// The angle-dependent rebound probability `p_r(θ)`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReboundCurve {
+    /// `p_r(θ) = Σ cᵢ xⁱ` with `x = θ / 90°`, clamped to `[0, 1]` (θ from the surface normal).
+    Polynomial(Vec<f64>),
+    /// `p_r ≡ 1`: every impact rebounds (abrasive blasting).
+    Always,
+    /// `p_r ≡ 0`: every impact sticks.
+    Never,
+}
+
+impl ReboundCurve {
+    /// `p_r(θ)` for an impact angle `theta` (rad) from the surface normal, in `[0, 1]`.
+    pub fn eval(&self, theta: f64) -> f64 {
+        match self {
+            ReboundCurve::Always => 1.0,
+            ReboundCurve::Never => 0.0,
+            ReboundCurve::Polynomial(c) => {
+                let x = theta / FRAC_PI_2;
+                c.iter().rev().fold(0.0, |acc, &ci| acc * x + ci).clamp(0.0, 1.0)
+            }
+        }
+    }
+}
+
+/// Impact parameters of one surface (the process's, or a surface's own override).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImpactModel {
+    /// Anti-adhesion factor α (dimensionless, `[0, 1]`).
+    pub alpha: f64,
+    /// Rebound curve `p_r(θ)`.
+    pub curve: ReboundCurve,
+    /// Coefficient of restitution: rebound speed / impact speed (dimensionless, `[0, 1]`).
+    pub restitution: f64,
+    /// Half-angle of the scatter cone about the specular direction, rad.
+    pub scatter: f64,
+    /// A rebound slower than this (m/s) comes to rest and sticks, where the surface can hold it.
+    pub rest_speed: f64,
+    /// Steepest surface (angle of its normal from +z, rad) on which a slow rebound can rest.
+    pub rest_max_slope: f64,
+}
+
+/// Outcome of one impact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    /// The particle stays where it hit.
+    Stick,
+    /// The particle leaves with this velocity (m/s).
+    Rebound(DVec3),
+}
+
+impl ImpactModel {
+    /// `P(rebound) = α · p_r(θ)`, clamped to `[0, 1]`, for `theta` (rad) from the normal.
+    pub fn rebound_probability(&self, theta: f64) -> f64 {
+        (self.alpha * self.curve.eval(theta)).clamp(0.0, 1.0)
+    }
+
+    /// Decides the outcome of an impact with velocity `v` (m/s) on a surface with unit `normal`
+    /// facing the incoming particle. Draws from `rng` in a fixed order (decision, then scatter),
+    /// so the outcome depends only on the particle's own stream.
+    pub fn resolve<R: Rng>(&self, v: DVec3, normal: DVec3, rng: &mut R) -> Outcome {
+        let speed = v.length();
+        let cos_theta = if speed > 0.0 { (-v.dot(normal) / speed).clamp(0.0, 1.0) } else { 1.0 };
+        let theta = cos_theta.acos();
+        let u: f64 = rng.random();
+        if u >= self.rebound_probability(theta) {
+            return Outcome::Stick;
+        }
+        let out_speed = speed * self.restitution;
+        if out_speed < self.rest_speed && normal.z >= self.rest_max_slope.cos() {
+            return Outcome::Stick;
+        }
+        // Specular reflection; `min(0)` keeps a grazing particle from being turned inwards.
+        let reflected = v - 2.0 * v.dot(normal).min(0.0) * normal;
+        let dir = scatter(reflected.normalize_or(normal), self.scatter, rng.random(), rng.random());
+        // Scatter never sends a particle into the surface: mirror such a direction back out.
+        let dir = if dir.dot(normal) < 0.0 { dir - 2.0 * dir.dot(normal) * normal } else { dir };
+        Outcome::Rebound(dir * out_speed)
+    }
+}
+
+/// A unit direction within `half_angle` (rad) of unit `axis`, uniform over that cone's solid
+/// angle, from two uniform variates in `[0, 1)`.
+pub fn scatter(axis: DVec3, half_angle: f64, u1: f64, u2: f64) -> DVec3 {
+    if half_angle <= 0.0 {
+        return axis;
+    }
+    let cos_t = 1.0 - u1 * (1.0 - half_angle.cos());
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = TAU * u2;
+    let (a, b) = axis.any_orthonormal_pair();
+    (axis * cos_t + (a * phi.cos() + b * phi.sin()) * sin_t).normalize()
+}

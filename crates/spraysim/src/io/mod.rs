@@ -1,0 +1,135 @@
+//! Writing a run's results: `metrics.json`, per-target arrays (`.npy`) and heatmaps (`.png`),
+//! and the resolved scenario. Files are written whole or not at all: everything goes to a
+//! staging folder inside the output directory first and is moved into place only once all of
+//! it has been written.
+
+pub mod heatmap;
+
+use crate::Simulation;
+use crate::scenario::Scenario;
+use ndarray::Array2;
+use std::path::{Path, PathBuf};
+
+/// Why outputs could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// A file or folder could not be created, written or moved.
+    #[error("{path}: {source}")]
+    Io {
+        /// What was being written.
+        path: PathBuf,
+        /// Underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// An array could not be encoded.
+    #[error("{path}: cannot write the array: {message}")]
+    Npy {
+        /// File.
+        path: PathBuf,
+        /// Reason.
+        message: String,
+    },
+    /// An image could not be encoded.
+    #[error("{path}: cannot write the image: {message}")]
+    Image {
+        /// File.
+        path: PathBuf,
+        /// Reason.
+        message: String,
+    },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |source| OutputError::Io { path: path.to_path_buf(), source }
+}
+
+/// Checks that `dir` exists or can be created, and that files can be written in it, leaving
+/// nothing behind that was not there before.
+pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
+    let created = !dir.exists();
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let probe = dir.join(format!(".spraysim-probe-{}", std::process::id()));
+    let result = std::fs::write(&probe, b"").map_err(io_err(dir));
+    let _ = std::fs::remove_file(&probe);
+    if created {
+        // Leave no trace of a check: the run will create the directory again.
+        let _ = std::fs::remove_dir(dir);
+    }
+    result
+}
+
+/// Writes every output of `sim` into `dir` (created if needed); returns the files written.
+pub fn write_outputs(sim: &Simulation, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let staging = dir.join(format!(".spraysim-staging-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::create_dir(&staging).map_err(io_err(&staging))?;
+    let result = stage(sim, &staging).and_then(|names| {
+        names
+            .into_iter()
+            .map(|name| {
+                let to = dir.join(&name);
+                std::fs::rename(staging.join(&name), &to).map_err(io_err(&to))?;
+                Ok(to)
+            })
+            .collect()
+    });
+    let _ = std::fs::remove_dir_all(&staging);
+    result
+}
+
+/// Writes all outputs into `staging`; returns their file names.
+fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
+    let sc: &Scenario = sim.scenario();
+    let mut names = Vec::new();
+    let mut put = |name: String, bytes: &[u8]| -> Result<(), OutputError> {
+        let path = staging.join(&name);
+        std::fs::write(&path, bytes).map_err(io_err(&path))?;
+        names.push(name);
+        Ok(())
+    };
+    let metrics = serde_json::to_string_pretty(&sim.metrics())
+        .map_err(|e| OutputError::Io { path: staging.join("metrics.json"), source: e.into() })?;
+    put("metrics.json".into(), metrics.as_bytes())?;
+    let header = "# Resolved scenario written by spraysim: every default filled in.\n\
+                  # Run it again with `spraysim run scenario.resolved.toml` for the same result.\n\n";
+    put("scenario.resolved.toml".into(), format!("{header}{}", sc.to_toml()).as_bytes())?;
+
+    for t in sim.targets() {
+        let (rows, cols) = (t.field.rows(), t.field.cols());
+        if sc.output.arrays {
+            let thickness: Vec<f32> = t.field.thickness().iter().map(|&x| x as f32).collect();
+            put(format!("{}_thickness.npy", t.name), &npy_bytes(rows, cols, thickness, staging)?)?;
+            put(format!("{}_hits.npy", t.name), &npy_bytes(rows, cols, t.field.hits().to_vec(), staging)?)?;
+        }
+        if sc.output.images {
+            let max = t.field.thickness().iter().copied().fold(0.0, f64::max);
+            let grid = heatmap::Grid { values: t.field.thickness(), cols, rows };
+            let img = heatmap::render(&grid, &format!("{}: thickness", t.name), &heatmap::Scale::thickness(max), sc.output.colormap);
+            put(format!("{}_thickness.png", t.name), &png_bytes(&img, staging)?)?;
+        }
+    }
+    Ok(names)
+}
+
+fn npy_bytes<T: ndarray_npy::WritableElement>(
+    rows: usize,
+    cols: usize,
+    data: Vec<T>,
+    at: &Path,
+) -> Result<Vec<u8>, OutputError> {
+    use ndarray_npy::WriteNpyExt;
+    let err = |message: String| OutputError::Npy { path: at.to_path_buf(), message };
+    let array = Array2::from_shape_vec((rows, cols), data).map_err(|e| err(e.to_string()))?;
+    let mut bytes = Vec::new();
+    array.write_npy(&mut bytes).map_err(|e| err(e.to_string()))?;
+    Ok(bytes)
+}
+
+fn png_bytes(img: &image::RgbImage, at: &Path) -> Result<Vec<u8>, OutputError> {
+    let mut bytes = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| OutputError::Image { path: at.to_path_buf(), message: e.to_string() })?;
+    Ok(bytes)
+}

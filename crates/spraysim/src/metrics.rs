@@ -1,0 +1,193 @@
+//! Run metrics: where every emitted particle ended, and how the layers came out.
+
+use crate::scenario::{Role, Scenario};
+use crate::swarm::{Swarm, flags};
+use crate::target::{Amount, Obstacle, Target};
+use serde::Serialize;
+
+/// Running totals kept by the pipeline.
+#[derive(Clone, Debug, Default)]
+pub struct Tally {
+    /// Particles emitted.
+    pub emitted: Amount,
+    /// Particles that left the domain box.
+    pub left_domain: Amount,
+    /// Particles retired past the maximum lifetime.
+    pub expired: Amount,
+    /// Particles whose first substrate impact happened.
+    pub substrate_first_impacts: Amount,
+    /// Of those, the ones that rebounded from it.
+    pub substrate_first_rebounds: Amount,
+}
+
+/// Where the emitted particles are: each in exactly one fate.
+#[derive(Clone, Debug, Serialize)]
+pub struct Fates {
+    /// Stuck on a target (front or back).
+    pub stuck_on_targets: Amount,
+    /// Stuck on an obstacle.
+    pub stuck_on_obstacles: Amount,
+    /// Left the domain box.
+    pub left_domain: Amount,
+    /// Still in flight past the maximum lifetime.
+    pub expired: Amount,
+    /// Still in flight.
+    pub in_flight: Amount,
+}
+
+impl Fates {
+    /// Sum over all fates; equals the emitted amount.
+    pub fn total(&self) -> Amount {
+        self.stuck_on_targets + self.stuck_on_obstacles + self.left_domain + self.expired + self.in_flight
+    }
+}
+
+/// Statistics of a target's thickness over all of its cells, m.
+#[derive(Clone, Debug, Serialize)]
+pub struct ThicknessStats {
+    /// Mean, m.
+    pub mean: f64,
+    /// Standard deviation, m.
+    pub std_dev: f64,
+    /// Coefficient of variation std_dev / mean (0 when the mean is 0).
+    pub cv: f64,
+    /// Minimum, m.
+    pub min: f64,
+    /// Maximum, m.
+    pub max: f64,
+    /// Coverage threshold, m.
+    pub coverage_threshold: f64,
+    /// Share of cells at or above the coverage threshold (and above 0), 0..1.
+    pub covered_fraction: f64,
+}
+
+impl ThicknessStats {
+    /// Statistics of `t` (m) against `threshold` (m).
+    pub fn of(t: &[f64], threshold: f64) -> ThicknessStats {
+        let n = t.len().max(1) as f64;
+        let mean = t.iter().sum::<f64>() / n;
+        let var = t.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+        let std_dev = var.sqrt();
+        ThicknessStats {
+            mean,
+            std_dev,
+            cv: if mean > 0.0 { std_dev / mean } else { 0.0 },
+            min: t.iter().copied().fold(f64::INFINITY, f64::min),
+            max: t.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            coverage_threshold: threshold,
+            covered_fraction: t.iter().filter(|&&x| x > 0.0 && x >= threshold).count() as f64 / n,
+        }
+    }
+}
+
+/// Per-target metrics.
+#[derive(Clone, Debug, Serialize)]
+pub struct TargetMetrics {
+    /// Name.
+    pub name: String,
+    /// Substrate or collector.
+    pub role: Role,
+    /// Impacts, stuck or rebounded, either side.
+    pub hits: u64,
+    /// Stuck on the front, in the heightfield.
+    pub stuck: Amount,
+    /// Stuck on the back (no heightfield).
+    pub stuck_on_back: Amount,
+    /// Σ thickness × cell area, m³ (equals `stuck.volume` up to rounding).
+    pub layer_volume: f64,
+    /// Thickness statistics over the face.
+    pub thickness: ThicknessStats,
+}
+
+/// Per-obstacle metrics.
+#[derive(Clone, Debug, Serialize)]
+pub struct ObstacleMetrics {
+    /// Name.
+    pub name: String,
+    /// Impacts.
+    pub hits: u64,
+    /// Stuck on it.
+    pub stuck: Amount,
+}
+
+/// Everything `metrics.json` reports.
+#[derive(Clone, Debug, Serialize)]
+pub struct Metrics {
+    /// Simulated time, s.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Particles emitted.
+    pub emitted: Amount,
+    /// Emitted mass, kg (volume × density).
+    pub emitted_mass: f64,
+    /// Where they are.
+    pub fates: Fates,
+    /// Volume that rebounded from its first impact on a substrate ÷ volume that struck a
+    /// substrate; `null` before anything has struck one.
+    pub rebound_ratio: Option<f64>,
+    /// Volume stuck on substrate targets ÷ volume emitted; `null` before anything is emitted.
+    pub transfer_efficiency: Option<f64>,
+    /// Per target, in scenario order.
+    pub targets: Vec<TargetMetrics>,
+    /// Per obstacle, in scenario order.
+    pub obstacles: Vec<ObstacleMetrics>,
+}
+
+fn ratio(a: f64, b: f64) -> Option<f64> {
+    (b > 0.0).then(|| a / b)
+}
+
+impl Metrics {
+    /// Gathers the metrics of a simulation's current state.
+    pub fn collect(
+        time: f64,
+        steps: u64,
+        tally: &Tally,
+        swarm: &Swarm,
+        targets: &[Target],
+        obstacles: &[Obstacle],
+        scenario: &Scenario,
+    ) -> Metrics {
+        let mut in_flight = Amount::default();
+        for (f, v) in swarm.flags.iter().zip(&swarm.volume) {
+            if f & flags::ALIVE != 0 {
+                in_flight.add(f64::from(*v));
+            }
+        }
+        let fates = Fates {
+            stuck_on_targets: targets.iter().map(|t| t.stuck + t.stuck_back).sum(),
+            stuck_on_obstacles: obstacles.iter().map(|o| o.stuck).sum(),
+            left_domain: tally.left_domain,
+            expired: tally.expired,
+            in_flight,
+        };
+        let on_substrate: f64 =
+            targets.iter().filter(|t| t.role == Role::Substrate).map(|t| t.stuck.volume).sum();
+        Metrics {
+            time,
+            steps,
+            emitted: tally.emitted,
+            emitted_mass: tally.emitted.volume * scenario.process.density,
+            rebound_ratio: ratio(tally.substrate_first_rebounds.volume, tally.substrate_first_impacts.volume),
+            transfer_efficiency: ratio(on_substrate, tally.emitted.volume),
+            fates,
+            targets: targets
+                .iter()
+                .map(|t| TargetMetrics {
+                    name: t.name.clone(),
+                    role: t.role,
+                    hits: t.hits,
+                    stuck: t.stuck,
+                    stuck_on_back: t.stuck_back,
+                    layer_volume: t.field.volume(),
+                    thickness: ThicknessStats::of(t.field.thickness(), scenario.process.coverage_threshold),
+                })
+                .collect(),
+            obstacles: obstacles
+                .iter()
+                .map(|o| ObstacleMetrics { name: o.name.clone(), hits: o.hits, stuck: o.stuck })
+                .collect(),
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! The nozzle's pose over time: static, or interpolated between time-stamped waypoints.
+
+use glam::DVec3;
+
+/// A nozzle pose: where particles start and the frame their directions are sampled in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NozzleFrame {
+    /// Nozzle position, m.
+    pub position: DVec3,
+    /// Unit spray axis.
+    pub axis: DVec3,
+    /// Unit axis across the aperture's width (fan nozzles spread along it).
+    pub width_axis: DVec3,
+    /// Unit axis across the aperture's height: `axis × width_axis`.
+    pub height_axis: DVec3,
+}
+
+impl NozzleFrame {
+    /// Frame for a spray `axis`, rolled by `roll` (rad) about it. At zero roll the width axis is
+    /// horizontal (`axis × z`), or +x when spraying straight up or down.
+    pub fn new(position: DVec3, axis: DVec3, roll: f64) -> Self {
+        let axis = axis.normalize();
+        let horizontal = axis.cross(DVec3::Z);
+        let w0 = if horizontal.length_squared() > 1e-12 { horizontal.normalize() } else { DVec3::X };
+        let h0 = axis.cross(w0);
+        let (s, c) = roll.sin_cos();
+        let width_axis = w0 * c + h0 * s;
+        NozzleFrame { position, axis, width_axis, height_axis: axis.cross(width_axis) }
+    }
+}
+
+/// One time-stamped pose of a nozzle path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waypoint {
+    /// Time, s.
+    pub time: f64,
+    /// Position, m.
+    pub position: DVec3,
+    /// Unit spray axis.
+    pub axis: DVec3,
+    /// Whether the nozzle sprays from this waypoint until the next.
+    pub spray: bool,
+}
+
+/// The nozzle's motion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NozzlePath {
+    waypoints: Vec<Waypoint>,
+    roll: f64,
+}
+
+impl NozzlePath {
+    /// A nozzle that stays put and sprays throughout.
+    pub fn fixed(position: DVec3, axis: DVec3, roll: f64) -> Self {
+        NozzlePath {
+            waypoints: vec![Waypoint { time: 0.0, position, axis: axis.normalize(), spray: true }],
+            roll,
+        }
+    }
+
+    /// A path through waypoints sorted by strictly increasing time.
+    pub fn through(waypoints: Vec<Waypoint>, roll: f64) -> Self {
+        let waypoints = waypoints.into_iter().map(|w| Waypoint { axis: w.axis.normalize(), ..w }).collect();
+        NozzlePath { waypoints, roll }
+    }
+
+    /// Pose at time `t` (s) and whether the nozzle sprays then. Position is interpolated
+    /// linearly, the axis spherically; before the first and after the last waypoint the nozzle
+    /// holds that waypoint's pose.
+    pub fn at(&self, t: f64) -> (NozzleFrame, bool) {
+        let w = &self.waypoints;
+        let i = w.partition_point(|p| p.time <= t);
+        let (pos, axis, spray) = if i == 0 {
+            (w[0].position, w[0].axis, w[0].spray)
+        } else if i == w.len() {
+            let last = w[w.len() - 1];
+            (last.position, last.axis, last.spray)
+        } else {
+            let (a, b) = (w[i - 1], w[i]);
+            let f = (t - a.time) / (b.time - a.time);
+            (a.position.lerp(b.position, f), slerp(a.axis, b.axis, f), a.spray)
+        };
+        (NozzleFrame::new(pos, axis, self.roll), spray)
+    }
+}
+
+/// Spherical interpolation between unit vectors that are not opposite.
+pub fn slerp(a: DVec3, b: DVec3, f: f64) -> DVec3 {
+    let cos = a.dot(b).clamp(-1.0, 1.0);
+    let omega = cos.acos();
+    if omega < 1e-9 {
+        return a.lerp(b, f).normalize();
+    }
+    let s = omega.sin();
+    (a * ((1.0 - f) * omega).sin() / s + b * (f * omega).sin() / s).normalize()
+}

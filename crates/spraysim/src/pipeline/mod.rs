@@ -1,0 +1,273 @@
+//! The simulation pipeline: a [`Simulation`] owns plain data sets (swarm, scene, targets) and
+//! its [`Simulation::step`] runs named stages over them in a fixed order:
+//!
+//! 1. **emit**: the nozzle's emitter spawns this step's particles (sequential, cheap);
+//! 2. **update**: every particle in flight moves, collides and resolves its impacts (parallel
+//!    over fixed-size chunks, each particle with its own random stream);
+//! 3. **apply**: impact records are applied to heightfields and tallies in particle order;
+//! 4. **compact**: retired particles are dropped from the swarm once they are many.
+//!
+//! Because chunks are fixed in size and records are applied in order, the result is
+//! bit-identical whatever the number of threads.
+
+mod setup;
+mod update;
+
+use crate::collision::{Aabb, Scene, SurfaceKind};
+use crate::emitter::Emitter;
+use crate::impact::ImpactModel;
+use crate::integrator::Motion;
+use crate::metrics::{Metrics, Tally};
+use crate::nozzle::NozzlePath;
+use crate::rng::StreamKey;
+use crate::scenario::{Scenario, ScenarioError};
+use crate::swarm::{Swarm, flags};
+use crate::target::{Obstacle, Target};
+use rayon::prelude::*;
+use update::{SwarmChunk, UpdateContext, record};
+
+/// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
+/// the order in which records are applied, never depends on the thread count.
+const CHUNK: usize = 4096;
+
+/// Why a simulation could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// The scenario is invalid.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// The thread pool could not be built.
+    #[error("cannot start {threads} worker threads: {message}")]
+    Threads {
+        /// Requested count.
+        threads: usize,
+        /// Reason.
+        message: String,
+    },
+}
+
+/// A running simulation of one scenario.
+///
+/// ```
+/// use spraysim::{Scenario, Simulation};
+///
+/// let mut scenario = Scenario::default_scene();
+/// scenario.simulation.duration = 0.05; // s
+/// let mut sim = Simulation::new(&scenario)?;
+/// sim.step(); // one Δt
+/// sim.run(|_| {}); // to the end
+/// let m = sim.metrics();
+/// assert_eq!(m.emitted.count, m.fates.total().count);
+/// assert!(m.emitted.count >= 499); // 10⁴ particles/s for 0.05 s
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Simulation {
+    scenario: Scenario,
+    step: u64,
+    total_steps: u64,
+    swarm: Swarm,
+    retired: usize,
+    emitter: Emitter,
+    nozzle: NozzlePath,
+    scene: Scene,
+    models: Vec<ImpactModel>,
+    motion: Motion,
+    domain: Aabb,
+    targets: Vec<Target>,
+    obstacles: Vec<Obstacle>,
+    tally: Tally,
+    key: StreamKey,
+    next_id: u64,
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Simulation {
+    /// Sets up a simulation of `scenario` at time 0. The scenario is validated first.
+    pub fn new(scenario: &Scenario) -> Result<Simulation, SetupError> {
+        scenario.validate().map_err(|inv| ScenarioError::Invalid {
+            location: "<scenario>".into(),
+            key: inv.key,
+            message: inv.message,
+        })?;
+        Ok(setup::build(scenario))
+    }
+
+    /// Runs the update stage on at most `threads` threads (0: rayon's global pool, one thread
+    /// per core). Results do not depend on it.
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), SetupError> {
+        self.pool = if threads == 0 {
+            None
+        } else {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| SetupError::Threads { threads, message: e.to_string() })?;
+            Some(pool)
+        };
+        Ok(())
+    }
+
+    /// The resolved scenario being simulated.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.scenario.simulation.dt
+    }
+
+    /// Steps taken so far.
+    pub fn steps_done(&self) -> u64 {
+        self.step
+    }
+
+    /// Steps the scenario's duration takes (the last one may end past the duration).
+    pub fn total_steps(&self) -> u64 {
+        self.total_steps
+    }
+
+    /// True once the scenario's duration has been simulated.
+    pub fn is_finished(&self) -> bool {
+        self.step >= self.total_steps
+    }
+
+    /// The particles, in flight and recently retired (see [`crate::swarm::flags`]).
+    pub fn swarm(&self) -> &Swarm {
+        &self.swarm
+    }
+
+    /// The targets and their heightfields.
+    pub fn targets(&self) -> &[Target] {
+        &self.targets
+    }
+
+    /// The obstacles and their tallies.
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
+    }
+
+    /// The metrics as of now.
+    pub fn metrics(&self) -> Metrics {
+        Metrics::collect(self.time(), self.step, &self.tally, &self.swarm, &self.targets, &self.obstacles, &self.scenario)
+    }
+
+    /// Runs steps until the duration is reached, calling `progress` after each.
+    pub fn run(&mut self, mut progress: impl FnMut(&Simulation)) {
+        while !self.is_finished() {
+            self.step();
+            progress(self);
+        }
+    }
+
+    /// Advances the simulation by one time step Δt (also past the scenario's duration).
+    pub fn step(&mut self) {
+        self.emit();
+        let outcomes = self.update();
+        self.apply(outcomes);
+        if self.retired > CHUNK && self.retired * 4 > self.swarm.len() {
+            self.swarm.compact();
+            self.retired = 0;
+        }
+        self.step += 1;
+    }
+
+    fn emit(&mut self) {
+        let (frame, spraying) = self.nozzle.at(self.time());
+        if !spraying {
+            return;
+        }
+        let n = self.emitter.spawn_count(self.scenario.simulation.dt);
+        let volume = self.emitter.particle_volume as f32;
+        for _ in 0..n {
+            let mut rng = self.key.stream(self.next_id, 0);
+            let (pos, vel) = self.emitter.sample(&frame, &mut rng);
+            // Validation bounds the run's particle count by 2³², so the id fits.
+            self.swarm.push(pos, vel, volume, self.next_id as u32);
+            self.tally.emitted.add(f64::from(volume));
+            self.next_id += 1;
+        }
+    }
+
+    fn update(&mut self) -> Vec<update::ChunkOutcome> {
+        let ctx = UpdateContext {
+            scene: &self.scene,
+            models: &self.models,
+            targets: &self.targets,
+            motion: self.motion,
+            domain: self.domain,
+            dt: self.scenario.simulation.dt,
+            key: self.key,
+            max_impacts: self.scenario.simulation.max_impacts_per_step,
+            max_lifetime: self.scenario.process.max_lifetime,
+        };
+        let s = &mut self.swarm;
+        let chunks: Vec<SwarmChunk<'_>> = s
+            .pos
+            .chunks_mut(CHUNK)
+            .zip(s.vel.chunks_mut(CHUNK))
+            .zip(s.age.chunks_mut(CHUNK))
+            .zip(s.volume.chunks(CHUNK))
+            .zip(s.id.chunks(CHUNK))
+            .zip(s.impacts.chunks_mut(CHUNK))
+            .zip(s.flags.chunks_mut(CHUNK))
+            .map(|((((((pos, vel), age), volume), id), impacts), flags)| SwarmChunk {
+                pos,
+                vel,
+                age,
+                volume,
+                id,
+                impacts,
+                flags,
+            })
+            .collect();
+        let work = || chunks.into_par_iter().map(|c| ctx.run_chunk(c)).collect();
+        match &self.pool {
+            Some(pool) => pool.install(work),
+            None => work(),
+        }
+    }
+
+    fn apply(&mut self, outcomes: Vec<update::ChunkOutcome>) {
+        for out in outcomes {
+            for rec in &out.impacts {
+                let volume = f64::from(rec.volume);
+                let stuck = rec.flags & record::STUCK != 0;
+                match self.scene.surfaces()[rec.surface as usize].kind {
+                    SurfaceKind::Target(i) => {
+                        let t = &mut self.targets[i];
+                        t.hits += 1;
+                        if rec.flags & record::BACK != 0 {
+                            if stuck {
+                                t.stuck_back.add(volume);
+                            }
+                        } else {
+                            t.field.add_hit(rec.cell);
+                            if stuck {
+                                t.field.deposit(rec.cell, volume);
+                                t.stuck.add(volume);
+                            }
+                        }
+                    }
+                    SurfaceKind::Obstacle(i) => {
+                        let o = &mut self.obstacles[i];
+                        o.hits += 1;
+                        if stuck {
+                            o.stuck.add(volume);
+                        }
+                    }
+                }
+                if rec.flags & record::FIRST_SUBSTRATE != 0 {
+                    self.tally.substrate_first_impacts.add(volume);
+                    if !stuck {
+                        self.tally.substrate_first_rebounds.add(volume);
+                    }
+                }
+            }
+            self.tally.left_domain = self.tally.left_domain + out.left_domain;
+            self.tally.expired = self.tally.expired + out.expired;
+            self.retired += out.retired;
+        }
+        debug_assert_eq!(self.retired, self.swarm.flags.iter().filter(|&&f| f & flags::ALIVE == 0).count());
+    }
+}

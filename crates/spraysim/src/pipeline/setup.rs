@@ -1,0 +1,157 @@
+//! Turns a validated scenario into the simulation's data sets (units converted to SI radians).
+
+use super::Simulation;
+use crate::collision::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Scene, Shape, Sphere, SurfaceKind};
+use crate::emitter::{Aperture, ApertureShape, Direction, DirectionKind, Emitter};
+use crate::heightfield::HeightField;
+use crate::impact::{ImpactModel, ReboundCurve};
+use crate::integrator::{GRAVITY, Motion};
+use crate::metrics::Tally;
+use crate::nozzle::{NozzlePath, Waypoint};
+use crate::rng::StreamKey;
+use crate::scenario::{ImpactOverride, ImpactParams, ObstacleParams, ObstacleShape, ReboundModel, Scenario};
+use crate::swarm::Swarm;
+use crate::target::{Amount, Obstacle, Target};
+use glam::DVec3;
+
+fn v3(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+/// Builds the simulation; `scenario` must have passed validation.
+pub(super) fn build(scenario: &Scenario) -> Simulation {
+    let sc = scenario;
+    let mut models = vec![impact_model(&sc.process.impact)];
+    let mut model_for = |over: &ImpactOverride| -> usize {
+        if *over == ImpactOverride::default() {
+            return 0;
+        }
+        let mut p = sc.process.impact.clone();
+        p.apply(over);
+        models.push(impact_model(&p));
+        models.len() - 1
+    };
+    let mut scene = Scene::default();
+    let mut targets = Vec::new();
+    for (i, t) in sc.targets.iter().enumerate() {
+        let face = Face::new(v3(t.center), v3(t.normal), v3(t.up), t.size);
+        let [cols, rows] = t.resolution.map(|r| r as usize);
+        targets.push(Target {
+            name: t.name.clone(),
+            role: t.role,
+            face,
+            field: HeightField::new(t.size[0], t.size[1], cols, rows, t.splat_radius),
+            hits: 0,
+            stuck: Amount::default(),
+            stuck_back: Amount::default(),
+        });
+        scene.push(Shape::Face(face), SurfaceKind::Target(i), model_for(&t.impact));
+    }
+    let mut obstacles = Vec::new();
+    for (i, o) in sc.obstacles.iter().enumerate() {
+        scene.push(obstacle_shape(o), SurfaceKind::Obstacle(i), model_for(&o.impact));
+        obstacles.push(Obstacle { name: o.name.clone(), hits: 0, stuck: Amount::default() });
+    }
+
+    let e = &sc.emitter;
+    let aperture = match e.shape {
+        ApertureShape::Point => Aperture::Point,
+        ApertureShape::Circle => Aperture::Circle { r: e.diameter / 2.0 },
+        ApertureShape::Rectangle => Aperture::Rectangle { hw: e.width / 2.0, hh: e.height / 2.0 },
+        ApertureShape::Annulus => Aperture::Annulus { r_in: e.inner_diameter / 2.0, r_out: e.outer_diameter / 2.0 },
+    };
+    let direction = match e.direction {
+        DirectionKind::UniformPolar => Direction::UniformPolar,
+        DirectionKind::TruncatedNormal => Direction::TruncatedNormal { mu: e.mu, sigma: e.sigma },
+        DirectionKind::UniformSolidAngle => Direction::UniformSolidAngle,
+        DirectionKind::Fan => {
+            Direction::Fan { wide: e.fan_wide_angle.to_radians(), narrow: e.fan_narrow_angle.to_radians() }
+        }
+    };
+    let emitter = Emitter::new(
+        aperture,
+        direction,
+        (e.cone_angle / 2.0).to_radians(),
+        e.speed,
+        e.spawn_rate,
+        sc.process.flow_rate / e.spawn_rate,
+    );
+
+    let n = &sc.nozzle;
+    let roll = n.roll.to_radians();
+    let nozzle = if n.waypoints.is_empty() {
+        NozzlePath::fixed(v3(n.position), v3(n.axis), roll)
+    } else {
+        let w = n.waypoints.iter().map(|w| Waypoint { time: w.time, position: v3(w.position), axis: v3(w.axis), spray: w.spray });
+        NozzlePath::through(w.collect(), roll)
+    };
+
+    let s = &sc.simulation;
+    // Whole steps covering the duration; the tolerance absorbs rounding of duration / dt.
+    let total_steps = ((s.duration / s.dt) - 1e-9).ceil().max(1.0) as u64;
+    Simulation {
+        scenario: sc.clone(),
+        step: 0,
+        total_steps,
+        swarm: Swarm::default(),
+        retired: 0,
+        emitter,
+        nozzle,
+        scene,
+        models,
+        motion: Motion { gravity: GRAVITY, drag: sc.process.drag, integrator: s.integrator },
+        domain: Aabb { min: v3(sc.domain.min), max: v3(sc.domain.max) },
+        targets,
+        obstacles,
+        tally: Tally::default(),
+        key: StreamKey::new(s.seed),
+        next_id: 0,
+        pool: None,
+    }
+}
+
+/// Impact parameters in file units → the impact model in radians.
+pub(crate) fn impact_model(p: &ImpactParams) -> ImpactModel {
+    ImpactModel {
+        alpha: p.alpha,
+        curve: match p.rebound_model {
+            ReboundModel::Polynomial => ReboundCurve::Polynomial(p.rebound_polynomial.clone()),
+            ReboundModel::Always => ReboundCurve::Always,
+            ReboundModel::Never => ReboundCurve::Never,
+        },
+        restitution: p.restitution,
+        scatter: p.scatter_angle.to_radians(),
+        rest_speed: p.rest_speed,
+        rest_max_slope: p.rest_max_slope.to_radians(),
+    }
+}
+
+/// The collision shape of a validated obstacle (validation guarantees the fields it reads).
+fn obstacle_shape(o: &ObstacleParams) -> Shape {
+    let center = v3(o.center.unwrap_or_default());
+    let normal = v3(o.normal.unwrap_or([0.0, 0.0, 1.0])).normalize();
+    let radius = o.radius.unwrap_or(0.0);
+    let size = o.size.clone().unwrap_or_default();
+    let dim = |i: usize| size.get(i).copied().unwrap_or(0.0);
+    match o.shape {
+        ObstacleShape::Plane => Shape::Plane(Plane { point: center, normal }),
+        ObstacleShape::Face => Shape::Face(Face::new(center, normal, v3(o.up.unwrap_or([0.0, 0.0, 1.0])), [dim(0), dim(1)])),
+        ObstacleShape::Disk => Shape::Disk(Disk { center, normal, radius }),
+        ObstacleShape::Sphere => Shape::Sphere(Sphere { center, radius }),
+        ObstacleShape::Box => {
+            let x = v3(o.x_axis.unwrap_or([1.0, 0.0, 0.0])).normalize();
+            let y = v3(o.y_axis.unwrap_or([0.0, 1.0, 0.0]));
+            let y = (y - x * y.dot(x)).normalize();
+            Shape::Box(OrientedBox {
+                center,
+                axes: [x, y, x.cross(y)],
+                half_extents: DVec3::new(dim(0), dim(1), dim(2)) / 2.0,
+            })
+        }
+        ObstacleShape::Cylinder => Shape::Cylinder(Cylinder {
+            a: v3(o.start.unwrap_or_default()),
+            b: v3(o.end.unwrap_or_default()),
+            radius,
+        }),
+    }
+}

@@ -1,0 +1,176 @@
+//! Update stage: advances every particle in flight by one step, in parallel. Each particle
+//! moves, collides and resolves its impacts using only its own state, the read-only scene and
+//! its own random stream; what it does to shared state (deposits, hit counts) is returned as
+//! [`ImpactRecord`]s for the apply stage.
+
+use crate::collision::{Aabb, SURFACE_OFFSET, Scene, SurfaceKind};
+use crate::impact::{ImpactModel, Outcome};
+use crate::integrator::Motion;
+use crate::rng::StreamKey;
+use crate::scenario::Role;
+use crate::swarm::flags;
+use crate::target::{Amount, Target};
+use glam::DVec3;
+
+/// Bits of [`ImpactRecord::flags`].
+pub(crate) mod record {
+    /// The particle stuck.
+    pub const STUCK: u8 = 1;
+    /// The particle's first impact on the front of a substrate target.
+    pub const FIRST_SUBSTRATE: u8 = 2;
+    /// The impact was on the back of a target.
+    pub const BACK: u8 = 4;
+}
+
+/// One impact, to be applied to shared state in particle order.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ImpactRecord {
+    pub surface: u32,
+    pub cell: u32,
+    pub volume: f32,
+    pub flags: u8,
+}
+
+/// What one chunk of particles produced in a step.
+#[derive(Debug, Default)]
+pub(crate) struct ChunkOutcome {
+    pub impacts: Vec<ImpactRecord>,
+    pub left_domain: Amount,
+    pub expired: Amount,
+    pub retired: usize,
+}
+
+/// Read-only inputs of the update stage.
+pub(crate) struct UpdateContext<'a> {
+    pub scene: &'a Scene,
+    pub models: &'a [ImpactModel],
+    pub targets: &'a [Target],
+    pub motion: Motion,
+    pub domain: Aabb,
+    pub dt: f64,
+    pub key: StreamKey,
+    pub max_impacts: u32,
+    pub max_lifetime: f64,
+}
+
+/// Mutable views of one chunk of the swarm's arrays.
+pub(crate) struct SwarmChunk<'a> {
+    pub pos: &'a mut [DVec3],
+    pub vel: &'a mut [DVec3],
+    pub age: &'a mut [f32],
+    pub volume: &'a [f32],
+    pub id: &'a [u32],
+    pub impacts: &'a mut [u16],
+    pub flags: &'a mut [u8],
+}
+
+impl UpdateContext<'_> {
+    /// Advances every live particle of `chunk` by one step.
+    pub fn run_chunk(&self, chunk: SwarmChunk<'_>) -> ChunkOutcome {
+        let mut out = ChunkOutcome::default();
+        for i in 0..chunk.pos.len() {
+            if chunk.flags[i] & flags::ALIVE == 0 {
+                continue;
+            }
+            let mut p = Particle {
+                pos: chunk.pos[i],
+                vel: chunk.vel[i],
+                volume: chunk.volume[i],
+                id: chunk.id[i],
+                impacts: chunk.impacts[i],
+                flags: chunk.flags[i],
+            };
+            let stuck = self.advance(&mut p, &mut out.impacts);
+            let age = f64::from(chunk.age[i]) + self.dt;
+            let volume = f64::from(p.volume);
+            if !stuck {
+                if !self.domain.contains(p.pos) {
+                    p.flags &= !flags::ALIVE;
+                    out.left_domain.add(volume);
+                } else if age > self.max_lifetime || p.impacts == u16::MAX {
+                    p.flags &= !flags::ALIVE;
+                    out.expired.add(volume);
+                }
+            }
+            if p.flags & flags::ALIVE == 0 {
+                out.retired += 1;
+            }
+            chunk.pos[i] = p.pos;
+            chunk.vel[i] = p.vel;
+            chunk.age[i] = age as f32;
+            chunk.impacts[i] = p.impacts;
+            chunk.flags[i] = p.flags;
+        }
+        out
+    }
+
+    /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true
+    /// if it stuck (and clears its `ALIVE` bit).
+    fn advance(&self, p: &mut Particle, records: &mut Vec<ImpactRecord>) -> bool {
+        let mut x = p.pos;
+        let mut v = p.vel;
+        let mut remaining = self.dt;
+        let (mut x_end, mut v_end) = self.motion.advance(x, v, remaining);
+        for _ in 0..self.max_impacts {
+            let Some((s, hit)) = self.scene.first_hit(x, x_end) else {
+                p.pos = x_end;
+                p.vel = v_end;
+                return false;
+            };
+            // Velocity at the hit, consistent with the straight segment that found it.
+            let mut v_in = v.lerp(v_end, hit.t);
+            if v_in.dot(hit.normal) >= 0.0 {
+                v_in = (x_end - x).normalize_or_zero() * v_in.length();
+            }
+            p.impacts = p.impacts.saturating_add(1);
+            let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
+            let surface = &self.scene.surfaces()[s];
+            let outcome = self.models[surface.impact].resolve(v_in, hit.normal, &mut rng);
+            let mut rec = ImpactRecord { surface: s as u32, cell: u32::MAX, volume: p.volume, flags: 0 };
+            if let SurfaceKind::Target(t) = surface.kind {
+                let target = &self.targets[t];
+                if hit.normal.dot(target.face.normal) > 0.0 {
+                    let (u, w) = target.face.local(hit.point);
+                    rec.cell = target.field.cell_at(u, w);
+                    if target.role == Role::Substrate && p.flags & flags::HIT_SUBSTRATE == 0 {
+                        p.flags |= flags::HIT_SUBSTRATE;
+                        rec.flags |= record::FIRST_SUBSTRATE;
+                    }
+                } else {
+                    rec.flags |= record::BACK;
+                }
+            }
+            match outcome {
+                Outcome::Stick => {
+                    rec.flags |= record::STUCK;
+                    records.push(rec);
+                    p.pos = hit.point;
+                    p.vel = DVec3::ZERO;
+                    p.flags &= !flags::ALIVE;
+                    return true;
+                }
+                Outcome::Rebound(v_out) => {
+                    records.push(rec);
+                    x = hit.point + hit.normal * SURFACE_OFFSET;
+                    v = v_out;
+                    remaining *= 1.0 - hit.t;
+                    (x_end, v_end) = self.motion.advance(x, v, remaining);
+                }
+            }
+        }
+        // Out of impacts for this step: wait at the last impact point.
+        p.pos = x;
+        p.vel = v;
+        false
+    }
+}
+
+/// Working copy of one particle's state.
+struct Particle {
+    pos: DVec3,
+    vel: DVec3,
+    volume: f32,
+    id: u32,
+    impacts: u16,
+    flags: u8,
+}

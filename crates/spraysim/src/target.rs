@@ -1,0 +1,67 @@
+//! Targets (faces with a heightfield) and obstacles, with what has happened on them.
+
+use crate::collision::Face;
+use crate::heightfield::HeightField;
+use crate::scenario::Role;
+use serde::Serialize;
+
+/// A number of particles and the material volume they carry.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Amount {
+    /// Particles.
+    pub count: u64,
+    /// Volume, m³.
+    pub volume: f64,
+}
+
+impl Amount {
+    /// Adds one particle of `volume` (m³).
+    #[inline]
+    pub fn add(&mut self, volume: f64) {
+        self.count += 1;
+        self.volume += volume;
+    }
+}
+
+impl std::ops::Add for Amount {
+    type Output = Amount;
+    fn add(self, o: Amount) -> Amount {
+        Amount { count: self.count + o.count, volume: self.volume + o.volume }
+    }
+}
+
+impl std::iter::Sum for Amount {
+    fn sum<I: Iterator<Item = Amount>>(iter: I) -> Amount {
+        iter.fold(Amount::default(), |a, b| a + b)
+    }
+}
+
+/// A target face and the layer it has received.
+#[derive(Clone, Debug)]
+pub struct Target {
+    /// Name, as in the scenario.
+    pub name: String,
+    /// Substrate or collector.
+    pub role: Role,
+    /// Geometry.
+    pub face: Face,
+    /// Deposited thickness and impact counts over the face's front.
+    pub field: HeightField,
+    /// Impacts on either side.
+    pub hits: u64,
+    /// Particles stuck on the front (all in `field`).
+    pub stuck: Amount,
+    /// Particles stuck on the back, which has no heightfield.
+    pub stuck_back: Amount,
+}
+
+/// An obstacle and what has struck it.
+#[derive(Clone, Debug)]
+pub struct Obstacle {
+    /// Name, as in the scenario.
+    pub name: String,
+    /// Impacts.
+    pub hits: u64,
+    /// Particles stuck on it.
+    pub stuck: Amount,
+}
