@@ -6,6 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use spraysim::scenario::Preset;
 use spraysim::{Metrics, Scenario, Simulation};
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::Instant;
 
 /// Particle simulation of construction spraying: shotcrete, spray painting, abrasive blasting.
@@ -44,15 +45,31 @@ enum Command {
     Presets,
 }
 
-fn main() -> Result<()> {
-    match Cli::parse().command {
+fn main() -> ExitCode {
+    match dispatch(Cli::parse().command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // `{:#}` prints the whole chain of causes on one line, without a backtrace.
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn dispatch(command: Command) -> Result<()> {
+    match command {
         Command::Run { scenario, output, threads, quiet } => run(scenario.as_deref(), output, threads, quiet),
         Command::Check { scenario, resolved } => {
             let sc = Scenario::from_path(&scenario)?;
             if resolved {
                 print!("{}", sc.to_toml());
             } else {
-                println!("{}: valid ({} targets, {} obstacles)", scenario.display(), sc.targets.len(), sc.obstacles.len());
+                println!(
+                    "{}: valid ({} targets, {} obstacles)",
+                    scenario.display(),
+                    sc.targets.len(),
+                    sc.obstacles.len()
+                );
             }
             Ok(())
         }
@@ -77,14 +94,17 @@ fn run(path: Option<&Path>, output: Option<PathBuf>, threads: usize, quiet: bool
     }
     let dir = PathBuf::from(&scenario.output.directory);
     // Refuse an unwritable directory before spending time on the run.
-    spraysim::io::check_writable(&dir).with_context(|| format!("output directory {} is not writable", dir.display()))?;
+    spraysim::io::check_writable(&dir)
+        .with_context(|| format!("output directory {} is not writable", dir.display()))?;
     let mut sim = Simulation::new(&scenario)?;
     sim.set_threads(threads)?;
 
     let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(sim.total_steps()) };
     bar.set_style(
-        ProgressStyle::with_template("{bar:40.cyan/blue} {percent:>3}% t = {msg} [{elapsed_precise}, eta {eta}]")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(
+            "{bar:40.cyan/blue} {percent:>3}% t = {msg} [{elapsed_precise}, eta {eta}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let start = Instant::now();
     let redraw = (sim.total_steps() / 200).max(1);
@@ -92,13 +112,19 @@ fn run(path: Option<&Path>, output: Option<PathBuf>, threads: usize, quiet: bool
         if s.steps_done() % redraw == 0 || s.is_finished() {
             let wall = start.elapsed().as_secs_f64().max(1e-9);
             bar.set_position(s.steps_done());
-            bar.set_message(format!("{:.3} s, {:.2}× real time, {} in flight", s.time(), s.time() / wall, s.swarm().alive()));
+            bar.set_message(format!(
+                "{:.3} s, {:.2}× real time, {} in flight",
+                s.time(),
+                s.time() / wall,
+                s.swarm().alive()
+            ));
         }
     });
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
 
-    let files = spraysim::io::write_outputs(&sim, &dir).with_context(|| format!("writing outputs to {}", dir.display()))?;
+    let files = spraysim::io::write_outputs(&sim, &dir)
+        .with_context(|| format!("writing outputs to {}", dir.display()))?;
     if !quiet {
         print_summary(&sim.metrics(), wall);
         println!("wrote {} files to {}", files.len(), dir.display());
@@ -124,7 +150,10 @@ fn print_summary(m: &Metrics, wall: f64) {
     }
     let show = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2} %", 100.0 * v));
     println!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
-    println!("{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}", "target", "hits", "mean [mm]", "max [mm]", "CV", "covered");
+    println!(
+        "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}",
+        "target", "hits", "mean [mm]", "max [mm]", "CV", "covered"
+    );
     for t in &m.targets {
         let th = &t.thickness;
         println!(
@@ -146,7 +175,8 @@ fn presets_toml() -> String {
         process: spraysim::scenario::ProcessParams,
         emitter: spraysim::scenario::EmitterParams,
     }
-    let mut out = String::from("# Process presets (units: m, s, kg, degrees). Paste one into a scenario and edit.\n");
+    let mut out =
+        String::from("# Process presets (units: m, s, kg, degrees). Paste one into a scenario and edit.\n");
     for p in Preset::ALL {
         let text = toml::to_string(&Sections { process: p.process(), emitter: p.emitter() })
             .unwrap_or_else(|e| format!("# cannot print preset: {e}\n"));

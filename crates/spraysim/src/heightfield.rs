@@ -93,9 +93,8 @@ impl HeightField {
     pub fn deposit(&mut self, cell: u32, volume: f64) {
         let (cols, rows) = (self.cols as isize, self.rows as isize);
         let (row, col) = (cell as isize / cols, cell as isize % cols);
-        let in_grid = |&&(i, j): &&(isize, isize)| {
-            (0..cols).contains(&(col + i)) && (0..rows).contains(&(row + j))
-        };
+        let in_grid =
+            |&&(i, j): &&(isize, isize)| (0..cols).contains(&(col + i)) && (0..rows).contains(&(row + j));
         let n = self.splat.iter().filter(in_grid).count();
         let added = volume / (n as f64 * self.cell_area());
         for &(i, j) in self.splat.iter().filter(in_grid) {

@@ -148,10 +148,9 @@ impl Shape {
                 let e = (DVec3::ONE - d.normal * d.normal).max(DVec3::ZERO).map(f64::sqrt) * d.radius;
                 Some(Aabb { min: d.center - e, max: d.center + e })
             }
-            Shape::Sphere(s) => Some(Aabb {
-                min: s.center - DVec3::splat(s.radius),
-                max: s.center + DVec3::splat(s.radius),
-            }),
+            Shape::Sphere(s) => {
+                Some(Aabb { min: s.center - DVec3::splat(s.radius), max: s.center + DVec3::splat(s.radius) })
+            }
             Shape::Box(b) => {
                 let e = (b.axes[0] * b.half_extents.x).abs()
                     + (b.axes[1] * b.half_extents.y).abs()
@@ -244,8 +243,11 @@ impl Face {
         let (t, d0) = plane_crossing(self.center, self.normal, p0, p1)?;
         let point = p0.lerp(p1, t);
         let (u, v) = self.local(point);
-        (u.abs() <= self.half_width && v.abs() <= self.half_height)
-            .then(|| Hit { t, point, normal: facing(self.normal, d0) })
+        (u.abs() <= self.half_width && v.abs() <= self.half_height).then(|| Hit {
+            t,
+            point,
+            normal: facing(self.normal, d0),
+        })
     }
 }
 
@@ -255,8 +257,11 @@ impl Disk {
     pub fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> {
         let (t, d0) = plane_crossing(self.center, self.normal, p0, p1)?;
         let point = p0.lerp(p1, t);
-        ((point - self.center).length_squared() <= self.radius * self.radius)
-            .then(|| Hit { t, point, normal: facing(self.normal, d0) })
+        ((point - self.center).length_squared() <= self.radius * self.radius).then(|| Hit {
+            t,
+            point,
+            normal: facing(self.normal, d0),
+        })
     }
 }
 

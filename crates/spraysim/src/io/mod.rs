@@ -106,7 +106,12 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
         if sc.output.images {
             let max = t.field.thickness().iter().copied().fold(0.0, f64::max);
             let grid = heatmap::Grid { values: t.field.thickness(), cols, rows };
-            let img = heatmap::render(&grid, &format!("{}: thickness", t.name), &heatmap::Scale::thickness(max), sc.output.colormap);
+            let img = heatmap::render(
+                &grid,
+                &format!("{}: thickness", t.name),
+                &heatmap::Scale::thickness(max),
+                sc.output.colormap,
+            );
             put(format!("{}_thickness.png", t.name), &png_bytes(&img, staging)?)?;
         }
     }

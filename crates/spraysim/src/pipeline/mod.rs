@@ -137,6 +137,11 @@ impl Simulation {
         &self.swarm
     }
 
+    /// The collidable surfaces (target faces first, then obstacles).
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
     /// The targets and their heightfields.
     pub fn targets(&self) -> &[Target] {
         &self.targets
@@ -149,7 +154,15 @@ impl Simulation {
 
     /// The metrics as of now.
     pub fn metrics(&self) -> Metrics {
-        Metrics::collect(self.time(), self.step, &self.tally, &self.swarm, &self.targets, &self.obstacles, &self.scenario)
+        Metrics::collect(
+            self.time(),
+            self.step,
+            &self.tally,
+            &self.swarm,
+            &self.targets,
+            &self.obstacles,
+            &self.scenario,
+        )
     }
 
     /// Runs steps until the duration is reached, calling `progress` after each.

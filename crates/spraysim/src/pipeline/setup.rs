@@ -58,7 +58,9 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         ApertureShape::Point => Aperture::Point,
         ApertureShape::Circle => Aperture::Circle { r: e.diameter / 2.0 },
         ApertureShape::Rectangle => Aperture::Rectangle { hw: e.width / 2.0, hh: e.height / 2.0 },
-        ApertureShape::Annulus => Aperture::Annulus { r_in: e.inner_diameter / 2.0, r_out: e.outer_diameter / 2.0 },
+        ApertureShape::Annulus => {
+            Aperture::Annulus { r_in: e.inner_diameter / 2.0, r_out: e.outer_diameter / 2.0 }
+        }
     };
     let direction = match e.direction {
         DirectionKind::UniformPolar => Direction::UniformPolar,
@@ -82,7 +84,12 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
     let nozzle = if n.waypoints.is_empty() {
         NozzlePath::fixed(v3(n.position), v3(n.axis), roll)
     } else {
-        let w = n.waypoints.iter().map(|w| Waypoint { time: w.time, position: v3(w.position), axis: v3(w.axis), spray: w.spray });
+        let w = n.waypoints.iter().map(|w| Waypoint {
+            time: w.time,
+            position: v3(w.position),
+            axis: v3(w.axis),
+            spray: w.spray,
+        });
         NozzlePath::through(w.collect(), roll)
     };
 
@@ -135,7 +142,9 @@ fn obstacle_shape(o: &ObstacleParams) -> Shape {
     let dim = |i: usize| size.get(i).copied().unwrap_or(0.0);
     match o.shape {
         ObstacleShape::Plane => Shape::Plane(Plane { point: center, normal }),
-        ObstacleShape::Face => Shape::Face(Face::new(center, normal, v3(o.up.unwrap_or([0.0, 0.0, 1.0])), [dim(0), dim(1)])),
+        ObstacleShape::Face => {
+            Shape::Face(Face::new(center, normal, v3(o.up.unwrap_or([0.0, 0.0, 1.0])), [dim(0), dim(1)]))
+        }
         ObstacleShape::Disk => Shape::Disk(Disk { center, normal, radius }),
         ObstacleShape::Sphere => Shape::Sphere(Sphere { center, radius }),
         ObstacleShape::Box => {

@@ -85,7 +85,8 @@ impl ScenarioFile {
         process.impact.apply(&p.impact);
         let mut emitter = preset.emitter();
         emitter.apply(&self.emitter);
-        let domain = self.domain.unwrap_or_else(|| default_domain(&self.nozzle, &self.targets, &self.obstacles));
+        let domain =
+            self.domain.unwrap_or_else(|| default_domain(&self.nozzle, &self.targets, &self.obstacles));
         Scenario {
             simulation: self.simulation,
             process,
@@ -100,7 +101,11 @@ impl ScenarioFile {
 }
 
 /// Bounding box of the nozzle path, the targets and the bounded obstacles, grown by 1 m.
-fn default_domain(nozzle: &NozzleParams, targets: &[TargetParams], obstacles: &[ObstacleParams]) -> DomainParams {
+fn default_domain(
+    nozzle: &NozzleParams,
+    targets: &[TargetParams],
+    obstacles: &[ObstacleParams],
+) -> DomainParams {
     let mut points: Vec<[f64; 3]> = vec![nozzle.position];
     points.extend(nozzle.waypoints.iter().map(|w| w.position));
     for t in targets {
@@ -112,7 +117,8 @@ fn default_domain(nozzle: &NozzleParams, targets: &[TargetParams], obstacles: &[
         if o.shape == ObstacleShape::Plane {
             continue;
         }
-        let reach = o.radius.unwrap_or(0.0) + o.size.as_ref().map_or(0.0, |s| s.iter().map(|v| v * v).sum::<f64>().sqrt());
+        let reach = o.radius.unwrap_or(0.0)
+            + o.size.as_ref().map_or(0.0, |s| s.iter().map(|v| v * v).sum::<f64>().sqrt());
         for p in [o.center, o.start, o.end].into_iter().flatten() {
             points.push(p.map(|c| c - reach));
             points.push(p.map(|c| c + reach));
@@ -133,7 +139,8 @@ impl Scenario {
     /// Reads, resolves and validates a scenario file.
     pub fn from_path(path: &Path) -> Result<Scenario, ScenarioError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Read { origin: origin.clone(), source })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| ScenarioError::Read { origin: origin.clone(), source })?;
         Scenario::from_toml(&text, &origin)
     }
 
@@ -141,7 +148,10 @@ impl Scenario {
     pub fn from_toml(text: &str, origin: &str) -> Result<Scenario, ScenarioError> {
         let file: ScenarioFile = toml::from_str(text).map_err(|e| {
             let line = e.span().map(|s| line_of(text, s.start));
-            ScenarioError::Syntax { location: location(origin, line), message: e.message().trim().to_string() }
+            ScenarioError::Syntax {
+                location: location(origin, line),
+                message: e.message().trim().to_string(),
+            }
         })?;
         let scenario = file.resolve();
         scenario.validate().map_err(|inv| {

@@ -144,7 +144,13 @@ pub struct SimulationParams {
 
 impl Default for SimulationParams {
     fn default() -> Self {
-        SimulationParams { dt: 1e-3, duration: 2.0, seed: 1, integrator: Integrator::Euler, max_impacts_per_step: 8 }
+        SimulationParams {
+            dt: 1e-3,
+            duration: 2.0,
+            seed: 1,
+            integrator: Integrator::Euler,
+            max_impacts_per_step: 8,
+        }
     }
 }
 

@@ -18,10 +18,10 @@ impl Preset {
         match self {
             Preset::Shotcrete => ProcessParams {
                 preset: self,
-                density: 2300.0,    // fresh wet-mix concrete, kg/m³
-                flow_rate: 1.5e-3,  // 5.4 m³/h, a typical wet-mix nozzle output (4–10 m³/h)
-                drag: 0.0,          // the paper's ballistic configuration
-                max_lifetime: 5.0,  // s; long enough to fall to the floor from a few metres
+                density: 2300.0,          // fresh wet-mix concrete, kg/m³
+                flow_rate: 1.5e-3,        // 5.4 m³/h, a typical wet-mix nozzle output (4–10 m³/h)
+                drag: 0.0,                // the paper's ballistic configuration
+                max_lifetime: 5.0,        // s; long enough to fall to the floor from a few metres
                 coverage_threshold: 1e-3, // 1 mm of shotcrete counts as covered
                 impact: ImpactParams {
                     alpha: 1.0, // Table 1: the angle curve governs rebound
@@ -35,8 +35,8 @@ impl Preset {
             },
             Preset::Painting => ProcessParams {
                 preset: self,
-                density: 1200.0,   // waterborne paint, kg/m³
-                flow_rate: 5e-6,   // 300 mL/min, an air spray gun
+                density: 1200.0, // waterborne paint, kg/m³
+                flow_rate: 5e-6, // 300 mL/min, an air spray gun
                 drag: 0.0,
                 max_lifetime: 2.0,
                 coverage_threshold: 20e-6, // a 20 µm wet film counts as covered

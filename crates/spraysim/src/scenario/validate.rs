@@ -33,11 +33,10 @@ fn range(key: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Check {
 
 /// `value` is finite and within `(0, hi]`.
 fn positive(key: &str, value: f64, hi: f64, unit: &str) -> Check {
-    range(key, value, 0.0, hi, unit)?;
-    if value <= 0.0 {
+    if value.is_finite() && value <= 0.0 {
         return Err(bad(key, format!("must be greater than 0 {unit}, got {value}")));
     }
-    Ok(())
+    range(key, value, 0.0, hi, unit)
 }
 
 /// Largest coordinate magnitude accepted anywhere, m: beyond any construction site.
@@ -66,7 +65,10 @@ fn direction(key: &str, d: [f64; 3]) -> Result<DVec3, Invalid> {
 
 fn name(key: &str, n: &str, seen: &mut Vec<String>) -> Check {
     if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
-        return Err(bad(key, format!("must be non-empty and use only letters, digits, '-' and '_', got {n:?}")));
+        return Err(bad(
+            key,
+            format!("must be non-empty and use only letters, digits, '-' and '_', got {n:?}"),
+        ));
     }
     if seen.iter().any(|s| s == n) {
         return Err(bad(key, format!("{n:?} is used twice; names must be unique")));
@@ -128,12 +130,18 @@ impl Scenario {
         let e = &self.emitter;
         positive("emitter.spawn_rate", e.spawn_rate, 1e9, "particles/s")?;
         if e.spawn_rate * self.simulation.duration > f64::from(u32::MAX) {
-            return Err(bad("emitter.spawn_rate", "times the duration exceeds 2³² particles, the most one run can emit"));
+            return Err(bad(
+                "emitter.spawn_rate",
+                "times the duration exceeds 2³² particles, the most one run can emit",
+            ));
         }
         range("emitter.speed", e.speed[0], 0.0, 1e4, "m/s")?;
         range("emitter.speed", e.speed[1], 0.0, 1e4, "m/s")?;
         if e.speed[0] > e.speed[1] {
-            return Err(bad("emitter.speed", format!("must be [min, max] with min ≤ max, got {:?}", e.speed)));
+            return Err(bad(
+                "emitter.speed",
+                format!("must be [min, max] with min ≤ max, got {:?}", e.speed),
+            ));
         }
         if e.speed[1] <= 0.0 {
             return Err(bad("emitter.speed", "must allow a speed above 0 m/s"));
@@ -159,7 +167,10 @@ impl Scenario {
                 range("emitter.mu", e.mu, -10.0, 10.0, "")?;
                 positive("emitter.sigma", e.sigma, 100.0, "")?;
                 if truncated_normal_mass(e.mu, e.sigma) < 1e-3 {
-                    return Err(bad("emitter.mu", "and emitter.sigma put less than 0.1 % of the normal inside [0, 1]"));
+                    return Err(bad(
+                        "emitter.mu",
+                        "and emitter.sigma put less than 0.1 % of the normal inside [0, 1]",
+                    ));
                 }
             }
             DirectionKind::Fan => {
@@ -190,7 +201,10 @@ impl Scenario {
                     return Err(bad(&format!("{key}.time"), "must be later than the previous waypoint's"));
                 }
                 if a.dot(axis) < -0.9999 {
-                    return Err(bad(&format!("{key}.axis"), "turns by 180° from the previous waypoint's; the rotation is ambiguous"));
+                    return Err(bad(
+                        &format!("{key}.axis"),
+                        "turns by 180° from the previous waypoint's; the rotation is ambiguous",
+                    ));
                 }
             }
             previous = Some((w.time, axis));
@@ -241,13 +255,20 @@ fn check_target(key: &str, t: &TargetParams, names: &mut Vec<String>) -> Check {
     }
     for r in t.resolution {
         if !(1..=4096).contains(&r) {
-            return Err(bad(&format!("{key}.resolution"), format!("must be between 1 and 4096 cells per side, got {r}")));
+            return Err(bad(
+                &format!("{key}.resolution"),
+                format!("must be between 1 and 4096 cells per side, got {r}"),
+            ));
         }
     }
     range(&format!("{key}.splat_radius"), t.splat_radius, 0.0, t.size[0].min(t.size[1]) / 2.0, "m")?;
-    let cells = t.splat_radius / (t.size[0] / f64::from(t.resolution[0])).min(t.size[1] / f64::from(t.resolution[1]));
+    let cells =
+        t.splat_radius / (t.size[0] / f64::from(t.resolution[0])).min(t.size[1] / f64::from(t.resolution[1]));
     if cells > 32.0 {
-        return Err(bad(&format!("{key}.splat_radius"), "spans more than 32 cells; lower it or the resolution"));
+        return Err(bad(
+            &format!("{key}.splat_radius"),
+            "spans more than 32 cells; lower it or the resolution",
+        ));
     }
     check_override(&format!("{key}.impact"), &t.impact)
 }
@@ -307,7 +328,10 @@ fn check_obstacle(key: &str, o: &ObstacleParams, names: &mut Vec<String>) -> Che
     if let Some(size) = &o.size {
         let want = if o.shape == ObstacleShape::Box { 3 } else { 2 };
         if size.len() != want {
-            return Err(bad(&format!("{key}.size"), format!("must have {want} values for a {shape_name}, got {}", size.len())));
+            return Err(bad(
+                &format!("{key}.size"),
+                format!("must have {want} values for a {shape_name}, got {}", size.len()),
+            ));
         }
         for s in size {
             positive(&format!("{key}.size"), *s, 1e4, "m")?;

@@ -1,0 +1,125 @@
+//! The `spraysim` command line: runs, refusals and presets.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn spraysim(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spraysim"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("spraysim starts")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const SMALL: &str = r#"
+[simulation]
+duration = 0.05
+[[target]]
+name = "wall"
+center = [0.0, 0.0, 1.0]
+normal = [-1.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+resolution = [32, 32]
+"#;
+
+#[test]
+fn run_writes_every_output() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    let o = spraysim(&["run", "s.toml", "-o", "res", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut names: Vec<String> = std::fs::read_dir(tmp.path().join("res"))
+        .expect("output dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "metrics.json",
+            "scenario.resolved.toml",
+            "wall_hits.npy",
+            "wall_thickness.npy",
+            "wall_thickness.png"
+        ]
+    );
+    let metrics: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("res/metrics.json")).expect("metrics"))
+            .expect("json");
+    assert_eq!(metrics["emitted"]["count"], 500);
+    // The .npy is float32, rows × cols.
+    let npy = std::fs::read(tmp.path().join("res/wall_thickness.npy")).expect("npy");
+    let header = String::from_utf8_lossy(&npy[..128]);
+    assert!(header.contains("'descr': '<f4'") && header.contains("'shape': (32, 32)"), "{header}");
+}
+
+#[test]
+fn bad_scenarios_are_refused_and_write_nothing() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (i, (bad, expect)) in [
+        (SMALL.replace("duration = 0.05", "duration = 0.05\ndt = -1.0"), "`simulation.dt`"),
+        (SMALL.replace("resolution = [32, 32]", "resolution = [32, 0]"), "`target[0].resolution`"),
+        (SMALL.replace("up = [0.0, 0.0, 1.0]", "up = [1.0, 0.0, 0.0]"), "`target[0].up`"),
+        (SMALL.replace("[simulation]", "[simulation]\nspeed = 3.0"), "unknown field `speed`"),
+        (format!("{SMALL}\n[process]\npreset = \"gunite\"\n"), "unknown variant `gunite`"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let file = format!("bad{i}.toml");
+        std::fs::write(tmp.path().join(&file), bad).expect("write");
+        for cmd in ["run", "check"] {
+            let o = spraysim(&[cmd, &file, "-o", "never"][..if cmd == "run" { 4 } else { 2 }], tmp.path());
+            assert!(!o.status.success(), "{cmd} accepted {file}");
+            let err = stderr(&o);
+            assert!(err.contains(&file) && err.contains(expect), "{cmd} {file}: {err}");
+            assert!(!tmp.path().join("never").exists(), "{cmd} {file} left an output directory");
+        }
+    }
+}
+
+#[test]
+fn an_unwritable_output_directory_is_refused_before_the_run() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    std::fs::write(tmp.path().join("plain-file"), "").expect("write");
+    let o = spraysim(&["run", "s.toml", "-o", "plain-file/out"], tmp.path());
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("not writable"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(tmp.path()).expect("dir").count(), 2, "something was written");
+}
+
+#[test]
+fn presets_paste_into_scenarios() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let o = spraysim(&["presets"], tmp.path());
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let chunks: Vec<&str> = text.split("# ---- ").skip(1).collect();
+    assert_eq!(chunks.len(), 3);
+    for chunk in chunks {
+        let (header, body) = chunk.split_once('\n').expect("header line");
+        let name = header.trim_end_matches(" ----");
+        let file = format!("{name}.toml");
+        std::fs::write(tmp.path().join(&file), format!("{SMALL}\n{body}")).expect("write");
+        let check = spraysim(&["check", &file, "--resolved"], tmp.path());
+        assert!(check.status.success(), "{name}: {}", stderr(&check));
+        assert!(String::from_utf8_lossy(&check.stdout).contains(&format!("preset = \"{name}\"")));
+    }
+}
+
+#[test]
+fn the_default_scene_runs_without_a_scenario() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let o = spraysim(&["run", "-o", "d"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("rebound ratio") && out.contains("wall") && out.contains("floor"), "{out}");
+    assert!(tmp.path().join("d/wall_thickness.png").exists());
+    assert!(tmp.path().join("d/floor_thickness.npy").exists());
+}

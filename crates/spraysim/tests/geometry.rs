@@ -1,0 +1,242 @@
+//! Collision primitives against brute-force references, and the no-tunnelling property.
+
+use glam::DVec3;
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use spraysim::collision::{Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere};
+
+/// Samples per segment of the brute-force reference.
+const SAMPLES: usize = 20_000;
+
+fn rand_vec(rng: &mut ChaCha8Rng, scale: f64) -> DVec3 {
+    DVec3::new(
+        rng.random_range(-scale..scale),
+        rng.random_range(-scale..scale),
+        rng.random_range(-scale..scale),
+    )
+}
+
+fn rand_dir(rng: &mut ChaCha8Rng) -> DVec3 {
+    loop {
+        let v = rand_vec(rng, 1.0);
+        if v.length() > 0.1 && v.length() <= 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
+/// Signed distance to the plane of a thin shape and whether a point on that plane lies in it.
+fn thin_parts(shape: &Shape) -> (DVec3, DVec3, Box<dyn Fn(DVec3) -> bool + '_>) {
+    match shape {
+        Shape::Plane(p) => (p.point, p.normal, Box::new(|_| true)),
+        Shape::Face(f) => (
+            f.center,
+            f.normal,
+            Box::new(move |q| {
+                let (u, v) = f.local(q);
+                u.abs() <= f.half_width && v.abs() <= f.half_height
+            }),
+        ),
+        Shape::Disk(d) => (d.center, d.normal, Box::new(move |q| (q - d.center).length() <= d.radius)),
+        _ => unreachable!("not a thin shape"),
+    }
+}
+
+/// First fraction of the segment at which the brute-force walk finds the shape.
+fn brute_force(shape: &Shape, p0: DVec3, p1: DVec3) -> Option<f64> {
+    let at = |k: usize| p0.lerp(p1, k as f64 / SAMPLES as f64);
+    match shape {
+        Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) => {
+            let (c, n, within) = thin_parts(shape);
+            let mut prev = (p0 - c).dot(n);
+            for k in 1..=SAMPLES {
+                let d = (at(k) - c).dot(n);
+                if prev.signum() != d.signum() || d == 0.0 {
+                    // Locate the crossing between samples and test it against the bounds.
+                    let t = (k as f64 - 1.0 + prev / (prev - d)) / SAMPLES as f64;
+                    if within(p0.lerp(p1, t)) {
+                        return Some(t);
+                    }
+                }
+                prev = d;
+            }
+            None
+        }
+        _ => (0..=SAMPLES).find(|&k| shape.contains(at(k))).map(|k| k as f64 / SAMPLES as f64),
+    }
+}
+
+fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
+    let c = rand_vec(rng, 0.3);
+    match kind {
+        0 => Shape::Plane(Plane { point: c, normal: rand_dir(rng) }),
+        1 => {
+            let n = rand_dir(rng);
+            let up = n.any_orthonormal_vector();
+            Shape::Face(Face::new(
+                c,
+                n,
+                up + 0.3 * rand_vec(rng, 1.0).reject_from(n),
+                [rng.random_range(0.1..1.0), rng.random_range(0.1..1.0)],
+            ))
+        }
+        2 => Shape::Disk(Disk { center: c, normal: rand_dir(rng), radius: rng.random_range(0.05..0.6) }),
+        3 => Shape::Sphere(Sphere { center: c, radius: rng.random_range(0.05..0.6) }),
+        4 => {
+            let x = rand_dir(rng);
+            let y = rand_dir(rng).reject_from(x).normalize();
+            Shape::Box(OrientedBox {
+                center: c,
+                axes: [x, y, x.cross(y)],
+                half_extents: DVec3::new(
+                    rng.random_range(0.05..0.5),
+                    rng.random_range(0.05..0.5),
+                    rng.random_range(0.05..0.5),
+                ),
+            })
+        }
+        _ => Shape::Cylinder(Cylinder {
+            a: c,
+            b: c + rand_dir(rng) * rng.random_range(0.1..1.0),
+            radius: rng.random_range(0.02..0.4),
+        }),
+    }
+}
+
+fn check_against_brute_force(kind: usize) {
+    let mut rng = ChaCha8Rng::seed_from_u64(kind as u64 + 100);
+    let mut hits = 0;
+    for _ in 0..1000 {
+        let shape = random_shape(&mut rng, kind);
+        let p0 = rand_vec(&mut rng, 1.5);
+        if shape.contains(p0) {
+            continue;
+        }
+        // Aim near the shape so that most segments test something.
+        let aim = shape.aabb().map_or(DVec3::ZERO, |b| (b.min + b.max) / 2.0) + rand_vec(&mut rng, 0.4);
+        let p1 = p0 + (aim - p0) * rng.random_range(0.3..2.0);
+        let exact = shape.intersect(p0, p1);
+        let reference = brute_force(&shape, p0, p1);
+        let step = 1.0 / SAMPLES as f64;
+        match (exact, reference) {
+            (Some(h), Some(t)) => {
+                hits += 1;
+                assert!(
+                    h.t <= t + 1e-9 && h.t >= t - 2.0 * step,
+                    "{shape:?}: t = {} but brute force {t}",
+                    h.t
+                );
+                assert!(h.point.distance(p0.lerp(p1, h.t)) < 1e-9);
+                assert!((h.normal.length() - 1.0).abs() < 1e-9);
+                assert!(
+                    h.normal.dot(p1 - p0) <= 1e-12,
+                    "{shape:?}: normal does not face the incoming segment"
+                );
+            }
+            (None, Some(t)) => panic!("{shape:?}: missed a hit at t = {t} from {p0} to {p1}"),
+            (Some(h), None) => {
+                // A grazing chord shorter than the sampling step; the hit must lie on the surface.
+                let ahead = p0.lerp(p1, (h.t + 2.0 * step).min(1.0));
+                assert!(
+                    !shape.contains(ahead),
+                    "{shape:?}: brute force found no hit, algebra found t = {}",
+                    h.t
+                );
+            }
+            (None, None) => {}
+        }
+    }
+    assert!(hits > 100, "too few hits ({hits}) to test anything");
+}
+
+#[test]
+fn plane_matches_brute_force() {
+    check_against_brute_force(0);
+}
+
+#[test]
+fn face_matches_brute_force() {
+    check_against_brute_force(1);
+}
+
+#[test]
+fn disk_matches_brute_force() {
+    check_against_brute_force(2);
+}
+
+#[test]
+fn sphere_matches_brute_force() {
+    check_against_brute_force(3);
+}
+
+#[test]
+fn box_matches_brute_force() {
+    check_against_brute_force(4);
+}
+
+#[test]
+fn cylinder_matches_brute_force() {
+    check_against_brute_force(5);
+}
+
+#[test]
+fn cylinder_hit_on_mantle_and_cap_has_the_right_normal() {
+    let c = Shape::Cylinder(Cylinder { a: DVec3::ZERO, b: DVec3::new(1.0, 0.0, 0.0), radius: 0.1 });
+    let side = c.intersect(DVec3::new(0.5, -1.0, 0.0), DVec3::new(0.5, 1.0, 0.0)).expect("mantle hit");
+    assert!((side.t - 0.45).abs() < 1e-12 && side.normal.abs_diff_eq(-DVec3::Y, 1e-12));
+    let cap = c.intersect(DVec3::new(-1.0, 0.05, 0.0), DVec3::new(1.0, 0.05, 0.0)).expect("cap hit");
+    assert!((cap.t - 0.5).abs() < 1e-12 && cap.normal.abs_diff_eq(-DVec3::X, 1e-12));
+}
+
+fn solid(kind: u8, c: DVec3, r: f64, dir: DVec3) -> Shape {
+    match kind % 3 {
+        0 => Shape::Sphere(Sphere { center: c, radius: r }),
+        1 => {
+            let x = dir.normalize();
+            let y = x.any_orthonormal_vector();
+            Shape::Box(OrientedBox {
+                center: c,
+                axes: [x, y, x.cross(y)],
+                half_extents: DVec3::new(r, r * 0.5, r * 1.5),
+            })
+        }
+        _ => Shape::Cylinder(Cylinder { a: c, b: c + dir.normalize() * 3.0 * r, radius: r }),
+    }
+}
+
+fn vec3() -> impl Strategy<Value = DVec3> {
+    (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// A segment from outside a closed primitive that reports no hit never enters it; one that
+    /// reports a hit touches the surface there, and moving back along the normal is outside.
+    #[test]
+    fn segments_never_pass_through_solids(
+        kind in 0u8..3, c in vec3(), r in 0.01..0.5f64, dir in vec3(), p0 in vec3(), d in vec3(), scale in 0.01..4.0f64,
+    ) {
+        prop_assume!(dir.length() > 1e-3);
+        let shape = solid(kind, c, r, dir);
+        prop_assume!(!shape.contains(p0));
+        let p1 = p0 + d * scale;
+        match shape.intersect(p0, p1) {
+            None => {
+                for k in 0..=2000 {
+                    let q = p0.lerp(p1, k as f64 / 2000.0);
+                    prop_assert!(!shape.contains(q), "passed through {:?} at {}", shape, q);
+                }
+            }
+            Some(h) => {
+                prop_assert!((0.0..=1.0).contains(&h.t));
+                prop_assert!(!shape.contains(h.point + h.normal * 1e-9));
+                for k in 0..200 {
+                    let q = p0.lerp(h.point, k as f64 / 200.0);
+                    prop_assert!(!shape.contains(q), "entered {:?} before the reported hit", shape);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,353 @@
+//! End-to-end physics checks on small scenes: conservation, layer volume, rebound statistics,
+//! process behaviour.
+
+use glam::DVec3;
+use spraysim::emitter::{Aperture, Direction, Emitter};
+use spraysim::scenario::{Role, SHOTCRETE_REBOUND_POLYNOMIAL};
+use spraysim::{Metrics, Scenario, Simulation};
+
+fn scenario(text: &str) -> Scenario {
+    Scenario::from_toml(text, "test").unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(sc: &Scenario) -> Simulation {
+    let mut sim = Simulation::new(sc).unwrap_or_else(|e| panic!("{e}"));
+    sim.run(|_| {});
+    sim
+}
+
+/// Every emitted particle is in exactly one fate, by count exactly and by volume to rounding.
+fn assert_conserved(m: &Metrics) {
+    let total = m.fates.total();
+    assert_eq!(total.count, m.emitted.count, "fates {:?} do not add up to {:?}", m.fates, m.emitted);
+    assert!((total.volume - m.emitted.volume).abs() <= 1e-12 * m.emitted.volume);
+}
+
+/// Σ thickness × cell area equals the stuck volume on every target.
+fn assert_layer_volumes(sim: &Simulation) {
+    for t in sim.targets() {
+        let rel = (t.field.volume() - t.stuck.volume).abs() / t.stuck.volume.max(1e-300);
+        assert!(rel < 1e-6, "{}: layer {} m³ vs stuck {} m³", t.name, t.field.volume(), t.stuck.volume);
+    }
+}
+
+#[test]
+fn default_scene_conserves_material_and_rebounds_like_shotcrete() {
+    let sim = run(&Scenario::default_scene());
+    let m = sim.metrics();
+    assert_conserved(&m);
+    assert_layer_volumes(&sim);
+    assert_eq!(m.emitted.count, 30_000); // 10⁴ /s for 3 s
+    let rr = m.rebound_ratio.expect("the wall was hit");
+    assert!((0.05..=0.30).contains(&rr), "rebound ratio {rr}");
+    // Rebound lands on the floor.
+    let floor = &m.targets[1];
+    assert_eq!(floor.role, Role::Collector);
+    assert!(floor.stuck.count > 0);
+}
+
+/// Second moments of the wall's layer about its centroid, in cell units.
+fn moments(t: &[f64], cols: usize) -> (f64, f64, f64, f64, f64) {
+    let (mut m, mut mx, mut my) = (0.0, 0.0, 0.0);
+    for (i, &v) in t.iter().enumerate() {
+        let (x, y) = ((i % cols) as f64 + 0.5, (i / cols) as f64 + 0.5);
+        m += v;
+        mx += v * x;
+        my += v * y;
+    }
+    let (cx, cy) = (mx / m, my / m);
+    let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+    for (i, &v) in t.iter().enumerate() {
+        let (x, y) = ((i % cols) as f64 + 0.5 - cx, (i / cols) as f64 + 0.5 - cy);
+        sxx += v * x * x;
+        syy += v * y * y;
+        sxy += v * x * y;
+    }
+    (cx, cy, sxx / m, syy / m, sxy / m)
+}
+
+#[test]
+fn default_spot_is_round_and_centred_on_the_aim_point() {
+    let sim = run(&Scenario::default_scene());
+    let wall = &sim.targets()[0];
+    let cols = wall.field.cols();
+    let (cx, cy, sxx, syy, sxy) = moments(wall.field.thickness(), cols);
+    // The nozzle aims at the wall's centre, cell (512, 512); gravity pulls the spot down by
+    // g·t²/2 ≈ 8 mm ≈ 4 cells at 25 m/s over 1 m.
+    assert!((cx - 512.0).abs() < 2.0, "centroid column {cx}");
+    assert!((512.0 - cy) > 2.0 && (512.0 - cy) < 7.0, "centroid row {cy}");
+    // Round: equal spread along both axes, no tilt.
+    assert!((sxx / syy - 1.0).abs() < 0.1, "spread ratio {}", sxx / syy);
+    assert!(sxy.abs() < 0.05 * sxx, "tilted spot");
+}
+
+#[test]
+fn spawn_count_with_fractional_carry_is_exact() {
+    let rate = 12_345.678;
+    let mut e = Emitter::new(Aperture::Point, Direction::UniformPolar, 0.1, [1.0, 2.0], rate, 1e-9);
+    let mut n = 0;
+    for step in 1..=10_000u64 {
+        n += e.spawn_count(3.7e-4);
+        let expected = rate * 3.7e-4 * step as f64;
+        assert!((n as f64 - expected).abs() < 1.0 + 1e-6, "after {step} steps: {n} vs {expected}");
+    }
+}
+
+/// A straight-down jet onto a face tilted by `theta_deg`: gravity acts along the flight path,
+/// so every impact happens at exactly `theta_deg` from the normal.
+fn tilted_face(theta_deg: f64, alpha: f64, extra: &str) -> Scenario {
+    let t = theta_deg.to_radians();
+    scenario(&format!(
+        r#"
+        [simulation]
+        duration = 0.2
+        seed = 7
+        [process]
+        preset = "shotcrete"
+        [process.impact]
+        alpha = {alpha}
+        {extra}
+        [emitter]
+        shape = "point"
+        cone_angle = 0.0
+        spawn_rate = 100000.0
+        [nozzle]
+        position = [0.0, 0.0, 0.3]
+        axis = [0.0, 0.0, -1.0]
+        [[target]]
+        name = "plate"
+        center = [0.0, 0.0, 0.0]
+        normal = [{}, 0.0, {}]
+        up = [0.0, 1.0, 0.0]
+        size = [0.5, 0.5]
+        resolution = [64, 64]
+        "#,
+        t.sin(),
+        t.cos()
+    ))
+}
+
+#[test]
+fn rebound_fraction_at_fixed_angle_matches_alpha_times_curve() {
+    for (theta, alpha) in [(0.0, 1.0), (30.0, 1.0), (45.0, 1.0), (45.0, 0.5), (55.0, 0.8)] {
+        let sim = run(&tilted_face(theta, alpha, ""));
+        let m = sim.metrics();
+        assert_conserved(&m);
+        let x: f64 = theta / 90.0;
+        let pr: f64 = SHOTCRETE_REBOUND_POLYNOMIAL.iter().rev().fold(0.0, |a, c| a * x + c);
+        let p = (alpha * pr.clamp(0.0, 1.0)).clamp(0.0, 1.0);
+        let n = m.emitted.count as f64;
+        let measured = m.rebound_ratio.expect("impacts");
+        // 4.5 binomial standard deviations: a false alarm about once in 10⁵ runs.
+        let tol = 4.5 * (p * (1.0 - p) / n).sqrt();
+        assert!((measured - p).abs() <= tol, "θ = {theta}°, α = {alpha}: {measured} vs {p} ± {tol}");
+    }
+}
+
+#[test]
+fn forced_and_suppressed_rebound_curves() {
+    let always = run(&tilted_face(10.0, 1.0, r#"rebound_model = "always""#)).metrics();
+    assert_eq!(always.rebound_ratio, Some(1.0));
+    let never = run(&tilted_face(80.0, 1.0, r#"rebound_model = "never""#)).metrics();
+    assert_eq!(never.rebound_ratio, Some(0.0));
+}
+
+#[test]
+fn rebound_speed_is_restitution_times_impact_speed() {
+    use rand::SeedableRng;
+    use spraysim::impact::{ImpactModel, Outcome, ReboundCurve};
+    let model = ImpactModel {
+        alpha: 1.0,
+        curve: ReboundCurve::Always,
+        restitution: 0.7,
+        scatter: 15f64.to_radians(),
+        rest_speed: 0.0,
+        rest_max_slope: 0.0,
+    };
+    let n = DVec3::new(0.0, 0.3, 1.0).normalize();
+    let v = DVec3::new(3.0, -1.0, -20.0);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let specular = (v - 2.0 * v.dot(n) * n).normalize();
+    let mut max_angle: f64 = 0.0;
+    for _ in 0..20_000 {
+        let Outcome::Rebound(out) = model.resolve(v, n, &mut rng) else { panic!("forced rebound stuck") };
+        assert!((out.length() - 0.7 * v.length()).abs() < 1e-9 * v.length());
+        assert!(out.dot(n) >= 0.0, "scattered into the surface");
+        max_angle = max_angle.max(out.normalize().dot(specular).clamp(-1.0, 1.0).acos());
+    }
+    // Scatter fills its cone and stays inside it.
+    assert!(
+        max_angle <= 15f64.to_radians() + 1e-9 && max_angle > 14f64.to_radians(),
+        "max scatter {max_angle}"
+    );
+}
+
+fn panel(preset: &str, extra: &str) -> Scenario {
+    scenario(&format!(
+        r#"
+        [simulation]
+        duration = 0.3
+        [process]
+        preset = "{preset}"
+        [nozzle]
+        position = [-0.3, 0.0, 1.0]
+        axis = [1.0, 0.0, 0.0]
+        [[target]]
+        name = "panel"
+        center = [0.0, 0.0, 1.0]
+        normal = [-1.0, 0.0, 0.0]
+        up = [0.0, 0.0, 1.0]
+        size = [1.5, 1.5]
+        resolution = [256, 256]
+        [[target]]
+        name = "floor"
+        role = "collector"
+        center = [-1.0, 0.0, 0.0]
+        normal = [0.0, 0.0, 1.0]
+        up = [1.0, 0.0, 0.0]
+        size = [4.0, 2.0]
+        resolution = [64, 64]
+        {extra}
+        "#
+    ))
+}
+
+#[test]
+fn painting_leaves_no_rebound() {
+    let sim = run(&panel("painting", ""));
+    let m = sim.metrics();
+    assert_conserved(&m);
+    assert_layer_volumes(&sim);
+    assert_eq!(m.rebound_ratio, Some(0.0));
+    let p = &m.targets[0];
+    assert_eq!(p.hits, p.stuck.count, "every impact on the panel sticks");
+    assert_eq!(m.targets[1].hits, 0, "nothing reaches the floor");
+    // All but what is still in the air has landed on the panel.
+    let landed = m.targets[0].stuck.volume / (m.emitted.volume - m.fates.in_flight.volume);
+    assert!((landed - 1.0).abs() < 1e-9, "landed share {landed}");
+    assert!(m.transfer_efficiency.expect("emitted") > 0.9);
+}
+
+#[test]
+fn blasting_leaves_nothing_stuck_on_the_substrate() {
+    let sim = run(&panel("blasting", ""));
+    let m = sim.metrics();
+    assert_conserved(&m);
+    let wall = &m.targets[0];
+    assert!(wall.hits > 1000);
+    assert_eq!(wall.stuck.count, 0);
+    assert_eq!(wall.layer_volume, 0.0);
+    assert_eq!(m.rebound_ratio, Some(1.0));
+    assert_eq!(m.transfer_efficiency, Some(0.0));
+}
+
+#[test]
+fn particles_never_end_a_step_inside_a_solid() {
+    // Grit blasted at a sphere, a box and a bar in front of a wall: thousands of rebounds.
+    let sc = panel(
+        "blasting",
+        r#"
+        [[obstacle]]
+        name = "ball"
+        shape = "sphere"
+        center = [-0.1, 0.05, 1.0]
+        radius = 0.04
+        [[obstacle]]
+        name = "block"
+        shape = "box"
+        center = [-0.1, -0.08, 1.02]
+        size = [0.05, 0.06, 0.08]
+        x_axis = [1.0, 1.0, 0.0]
+        [[obstacle]]
+        name = "bar"
+        shape = "cylinder"
+        start = [-0.05, -0.5, 0.97]
+        end = [-0.05, 0.5, 0.97]
+        radius = 0.01
+        "#,
+    );
+    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut checked = 0usize;
+    while !sim.is_finished() {
+        sim.step();
+        let sw = sim.swarm();
+        for (i, p) in sw.pos.iter().enumerate() {
+            if sw.flags[i] & spraysim::swarm::flags::ALIVE == 0 {
+                continue;
+            }
+            checked += 1;
+            for s in sim.scene().surfaces() {
+                assert!(!s.shape.contains(*p), "inside {:?} at {p}", s.kind);
+            }
+        }
+    }
+    let m = sim.metrics();
+    assert_conserved(&m);
+    assert!(m.obstacles.iter().all(|o| o.hits > 0), "{:?}", m.obstacles);
+    assert!(checked > 100_000);
+}
+
+#[test]
+fn particles_that_hit_nothing_leave_the_domain_or_expire() {
+    let up = scenario(
+        r#"
+        [simulation]
+        duration = 0.5
+        [process]
+        max_lifetime = 0.2
+        [nozzle]
+        axis = [0.0, 0.0, 1.0]
+        [emitter]
+        speed = [1.0, 1.0]
+        "#,
+    );
+    let m = run(&up).metrics();
+    assert_conserved(&m);
+    // Thrown up at 1 m/s: in 0.2 s nothing leaves the default domain; all expire or fly.
+    assert_eq!(m.fates.left_domain.count, 0);
+    assert!(m.fates.expired.count > 0);
+    let fast =
+        scenario("[simulation]\nduration = 0.5\n[domain]\nmin = [-2.0, -1.0, 0.0]\nmax = [0.0, 1.0, 2.0]\n");
+    let m = run(&fast).metrics();
+    assert_conserved(&m);
+    assert!(m.fates.left_domain.count > 0);
+    assert_eq!(m.fates.expired.count, 0);
+}
+
+#[test]
+fn waypoints_move_the_spot_and_switch_the_spray() {
+    let sc = scenario(
+        r#"
+        [simulation]
+        duration = 1.0
+        [emitter]
+        spawn_rate = 20000.0
+        [[nozzle.waypoints]]
+        time = 0.0
+        position = [-1.0, 0.5, 1.0]
+        axis = [1.0, 0.0, 0.0]
+        [[nozzle.waypoints]]
+        time = 0.5
+        position = [-1.0, -0.5, 1.0]
+        axis = [1.0, 0.0, 0.0]
+        spray = false
+        [[target]]
+        name = "wall"
+        center = [0.0, 0.0, 1.0]
+        normal = [-1.0, 0.0, 0.0]
+        up = [0.0, 0.0, 1.0]
+        size = [2.0, 2.0]
+        resolution = [200, 200]
+        "#,
+    );
+    let sim = run(&sc);
+    let m = sim.metrics();
+    // Spraying only during the first half second.
+    assert_eq!(m.emitted.count, 10_000);
+    // The pass runs from y = +0.5 (column 50) to y = −0.5 (column 150): right = up × normal = −y.
+    let t = sim.targets()[0].field.thickness();
+    let column_sum = |c: usize| (0..200).map(|r| t[r * 200 + c]).sum::<f64>();
+    assert!(column_sum(60) > 0.0 && column_sum(100) > 0.0 && column_sum(140) > 0.0);
+    assert_eq!(column_sum(20), 0.0);
+    assert_eq!(column_sum(180), 0.0);
+}
