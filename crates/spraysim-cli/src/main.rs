@@ -3,7 +3,6 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use spraysim::scenario::Preset;
 use spraysim::{Metrics, Scenario, Simulation};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -74,7 +73,7 @@ fn dispatch(command: Command) -> Result<()> {
             Ok(())
         }
         Command::Presets => {
-            print!("{}", presets_toml());
+            print!("{}", spraysim::scenario::presets_toml());
             Ok(())
         }
     }
@@ -166,21 +165,4 @@ fn print_summary(m: &Metrics, wall: f64) {
             100.0 * th.covered_fraction
         );
     }
-}
-
-/// Each preset's `[process]`, `[process.impact]` and `[emitter]` as TOML.
-fn presets_toml() -> String {
-    #[derive(serde::Serialize)]
-    struct Sections {
-        process: spraysim::scenario::ProcessParams,
-        emitter: spraysim::scenario::EmitterParams,
-    }
-    let mut out =
-        String::from("# Process presets (units: m, s, kg, degrees). Paste one into a scenario and edit.\n");
-    for p in Preset::ALL {
-        let text = toml::to_string(&Sections { process: p.process(), emitter: p.emitter() })
-            .unwrap_or_else(|e| format!("# cannot print preset: {e}\n"));
-        out.push_str(&format!("\n# ---- {} ----\n{text}", p.name()));
-    }
-    out
 }

@@ -201,3 +201,115 @@ pub fn truncated_normal_mass(mu: f64, sigma: f64) -> f64 {
 pub fn normal_cdf(x: f64) -> f64 {
     0.5 * (1.0 + libm::erf(x / std::f64::consts::SQRT_2))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    const N: usize = 200_000;
+    const BINS: usize = 20;
+    /// χ² with 19 degrees of freedom exceeds 50 with probability about 1.2e-4.
+    const CHI2_LIMIT: f64 = 50.0;
+
+    fn frame() -> NozzleFrame {
+        NozzleFrame::new(DVec3::ZERO, DVec3::Z, 0.0)
+    }
+
+    /// χ² of the histogram of θ/θ_half against bin probabilities `p`.
+    fn chi2(direction: Direction, half: f64, p: impl Fn(f64, f64) -> f64) -> f64 {
+        let e = Emitter::new(Aperture::Point, direction, half, [1.0, 1.0], 1.0, 1.0);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let mut hist = [0usize; BINS];
+        for _ in 0..N {
+            let (_, v) = e.sample(&frame(), &mut rng);
+            let s = v.z.clamp(-1.0, 1.0).acos() / half;
+            hist[((s * BINS as f64) as usize).min(BINS - 1)] += 1;
+        }
+        (0..BINS)
+            .map(|i| {
+                let expected = N as f64 * p(i as f64 / BINS as f64, (i + 1) as f64 / BINS as f64);
+                (hist[i] as f64 - expected).powi(2) / expected
+            })
+            .sum()
+    }
+
+    fn truncated_normal_bin(mu: f64, sigma: f64) -> impl Fn(f64, f64) -> f64 {
+        move |a, b| {
+            (normal_cdf((b - mu) / sigma) - normal_cdf((a - mu) / sigma)) / truncated_normal_mass(mu, sigma)
+        }
+    }
+
+    #[test]
+    fn truncated_normal_matches_its_density() {
+        let half = 7f64.to_radians();
+        let c = chi2(
+            Direction::TruncatedNormal { mu: 0.255, sigma: 0.102 },
+            half,
+            truncated_normal_bin(0.255, 0.102),
+        );
+        assert!(c < CHI2_LIMIT, "χ² = {c}");
+        // A σ off by 10 % is detected.
+        let wrong = chi2(
+            Direction::TruncatedNormal { mu: 0.255, sigma: 0.112 },
+            half,
+            truncated_normal_bin(0.255, 0.102),
+        );
+        assert!(wrong > CHI2_LIMIT, "χ² = {wrong}");
+    }
+
+    #[test]
+    fn uniform_polar_is_uniform_in_angle() {
+        let c = chi2(Direction::UniformPolar, 0.3, |a, b| b - a);
+        assert!(c < CHI2_LIMIT, "χ² = {c}");
+    }
+
+    #[test]
+    fn uniform_solid_angle_is_uniform_in_cosine() {
+        let half: f64 = 0.6;
+        let c = chi2(Direction::UniformSolidAngle, half, |a, b| {
+            ((a * half).cos() - (b * half).cos()) / (1.0 - half.cos())
+        });
+        assert!(c < CHI2_LIMIT, "χ² = {c}");
+    }
+
+    #[test]
+    fn apertures_and_speeds_stay_within_bounds() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        let f = frame();
+        for aperture in [
+            Aperture::Circle { r: 0.02 },
+            Aperture::Annulus { r_in: 0.01, r_out: 0.03 },
+            Aperture::Rectangle { hw: 0.1, hh: 0.01 },
+        ] {
+            let e = Emitter::new(
+                aperture,
+                Direction::Fan { wide: 1.0, narrow: 0.2 },
+                0.5,
+                [20.0, 30.0],
+                1.0,
+                1.0,
+            );
+            let mut mean_r2 = 0.0;
+            for _ in 0..10_000 {
+                let (p, v) = e.sample(&f, &mut rng);
+                assert!(p.z == 0.0 && (20.0..=30.0).contains(&v.length()));
+                let (a, b) = (v.x.atan2(v.z), v.y.atan2(v.z));
+                assert!(a.abs() <= 0.5 + 1e-12 && b.abs() <= 0.1 + 1e-12, "outside the fan");
+                let r = p.truncate().length();
+                match aperture {
+                    Aperture::Circle { r: rr } => assert!(r <= rr),
+                    Aperture::Annulus { r_in, r_out } => assert!(r >= r_in - 1e-15 && r <= r_out + 1e-15),
+                    Aperture::Rectangle { hw, hh } => assert!(p.x.abs() <= hw && p.y.abs() <= hh),
+                    Aperture::Point => {}
+                }
+                mean_r2 += r * r / 10_000.0;
+            }
+            // Uniform over the area: E[r²] = (r_in² + r_out²) / 2 for rings.
+            if let Aperture::Annulus { r_in, r_out } = aperture {
+                let expected = (r_in * r_in + r_out * r_out) / 2.0;
+                assert!((mean_r2 / expected - 1.0).abs() < 0.02, "{mean_r2} vs {expected}");
+            }
+        }
+    }
+}

@@ -107,3 +107,33 @@ impl HeightField {
         self.thickness.iter().sum::<f64>() * self.cell_area()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cells_grow_right_and_up_from_the_bottom_left() {
+        let f = HeightField::new(2.0, 1.0, 4, 2, 0.0);
+        assert_eq!(f.cell_at(-0.99, -0.49), 0);
+        assert_eq!(f.cell_at(0.99, -0.49), 3);
+        assert_eq!(f.cell_at(-0.99, 0.49), 4);
+        assert_eq!(f.cell_at(1.0, 0.5), 7, "the far edge belongs to the last cell");
+        assert_eq!(f.cell_at(-0.1, 0.1), 5);
+    }
+
+    #[test]
+    fn splat_conserves_volume_everywhere_and_spreads_in_the_interior() {
+        let mut f = HeightField::new(1.0, 1.0, 100, 100, 0.03);
+        for cell in [0, 99, 5050, 9999, 150] {
+            f.deposit(cell, 1e-6);
+        }
+        assert!((f.volume() - 5e-6).abs() < 1e-18);
+        // Interior splat: the cells within 3 cell widths, 29 of them, share it evenly.
+        let mut g = HeightField::new(1.0, 1.0, 100, 100, 0.03);
+        g.deposit(5050, 29e-4 * 1e-4);
+        let touched: Vec<f64> = g.thickness().iter().copied().filter(|&t| t > 0.0).collect();
+        assert_eq!(touched.len(), 29);
+        assert!(touched.iter().all(|&t| (t - 1e-4).abs() < 1e-15));
+    }
+}

@@ -9,7 +9,7 @@ mod presets;
 mod validate;
 
 pub use params::*;
-pub use presets::SHOTCRETE_REBOUND_POLYNOMIAL;
+pub use presets::{SHOTCRETE_REBOUND_POLYNOMIAL, presets_toml};
 pub use validate::Invalid;
 
 use serde::Deserialize;
