@@ -42,6 +42,18 @@ enum Command {
     },
     /// Print each process preset as TOML to paste into a scenario.
     Presets,
+    /// Time the reference scene and its scaling variants; prints a Markdown table.
+    Bench {
+        /// Particles emitted per second in the throughput runs.
+        #[arg(long, default_value_t = 1e6)]
+        spawn_rate: f64,
+        /// Simulated seconds per run.
+        #[arg(long, default_value_t = 0.5)]
+        duration: f64,
+        /// Worker threads for the runs that do not vary it; 0 uses every core.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+    },
 }
 
 fn main() -> ExitCode {
@@ -72,6 +84,7 @@ fn dispatch(command: Command) -> Result<()> {
             }
             Ok(())
         }
+        Command::Bench { spawn_rate, duration, threads } => bench(spawn_rate, duration, threads),
         Command::Presets => {
             print!("{}", spraysim::scenario::presets_toml());
             Ok(())
@@ -165,4 +178,41 @@ fn print_summary(m: &Metrics, wall: f64) {
             100.0 * th.covered_fraction
         );
     }
+}
+
+/// Runs the reference scene and its scaling variants and prints one table row each.
+fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
+    use spraysim::bench::{ReferenceScene, measure};
+    let base = ReferenceScene { spawn_rate, duration, ..ReferenceScene::default() };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let all = if threads == 0 { cores } else { threads };
+    let runs: Vec<(String, ReferenceScene, usize)> = vec![
+        (format!("reference, {all} threads"), base.clone(), all),
+        ("reference, 1 thread".into(), base.clone(), 1),
+        (
+            "spawn rate ×10".into(),
+            ReferenceScene { spawn_rate: spawn_rate * 10.0, duration: duration / 10.0, ..base.clone() },
+            all,
+        ),
+        ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all),
+        ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all),
+        ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all),
+    ];
+    println!("reference scene, Δt = 1 ms, {spawn_rate:.0} particles/s for {duration} s unless noted\n");
+    println!(
+        "| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|");
+    for (name, scene, threads) in runs {
+        let m = measure(&scene.scenario(), threads)?;
+        println!(
+            "| {name} | {:.3} | {:.3e} | {:.3e} | {:.3} | {:.0} |",
+            m.wall,
+            m.particle_steps_per_second(),
+            m.particles_per_second(),
+            m.real_time_factor(),
+            m.peak_rss as f64 / (1024.0 * 1024.0)
+        );
+    }
+    Ok(())
 }

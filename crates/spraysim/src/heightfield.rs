@@ -74,10 +74,9 @@ impl HeightField {
     /// clamped to the grid so that hits on the very edge land in the edge cells.
     #[inline]
     pub fn cell_at(&self, u: f64, v: f64) -> u32 {
-        let col = (((u / self.width) + 0.5) * self.cols as f64).floor();
-        let row = (((v / self.height) + 0.5) * self.rows as f64).floor();
-        let col = (col.max(0.0) as usize).min(self.cols - 1);
-        let row = (row.max(0.0) as usize).min(self.rows - 1);
+        // Clamped to ≥ 0 first, so that truncation is a floor.
+        let col = ((((u / self.width) + 0.5) * self.cols as f64).max(0.0) as usize).min(self.cols - 1);
+        let row = ((((v / self.height) + 0.5) * self.rows as f64).max(0.0) as usize).min(self.rows - 1);
         (row * self.cols + col) as u32
     }
 

@@ -14,7 +14,8 @@
 //! - [`impact`]: stick or rebound, restitution, scatter;
 //! - [`heightfield`] and [`target`]: deposited layers and per-surface tallies;
 //! - [`pipeline`]: the [`Simulation`] and its stages;
-//! - [`metrics`] and [`io`]: results, files and heatmaps.
+//! - [`metrics`] and [`io`]: results, files and heatmaps;
+//! - [`bench`]: the reference scene for performance measurements.
 //!
 //! ```
 //! use spraysim::{Scenario, Simulation};
@@ -46,6 +47,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bench;
 pub mod collision;
 pub mod emitter;
 pub mod heightfield;

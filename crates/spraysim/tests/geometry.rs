@@ -240,3 +240,43 @@ proptest! {
         }
     }
 }
+
+/// The grid-accelerated query returns exactly what testing every surface returns.
+#[test]
+fn indexed_scene_query_matches_the_linear_scan() {
+    use spraysim::collision::{Aabb, Scene, SurfaceKind, SurfaceRef};
+    let mut rng = ChaCha8Rng::seed_from_u64(77);
+    for scene_no in 0..20 {
+        let surfaces: Vec<SurfaceRef> = (0..200)
+            .map(|i| SurfaceRef {
+                shape: random_shape(&mut rng, 1 + i % 5),
+                kind: SurfaceKind::Obstacle(i),
+                impact: 0,
+            })
+            .chain(std::iter::once(SurfaceRef {
+                shape: Shape::Plane(Plane { point: DVec3::new(0.0, 0.0, -0.9), normal: DVec3::Z }),
+                kind: SurfaceKind::Obstacle(200),
+                impact: 0,
+            }))
+            .collect();
+        // Bounds smaller than the scene in some runs: the query must not depend on them.
+        let half = if scene_no % 2 == 0 { 2.0 } else { 0.5 };
+        let scene = Scene::new(surfaces, Aabb { min: DVec3::splat(-half), max: DVec3::splat(half) });
+        let mut hits = 0;
+        for k in 0..2000 {
+            let p0 = rand_vec(&mut rng, 1.2);
+            let len = if k % 3 == 0 { 2.5 } else { 0.05 };
+            let p1 = p0 + rand_vec(&mut rng, len);
+            let fast = scene.first_hit(p0, p1);
+            let slow = scene.first_hit_linear(p0, p1);
+            assert_eq!(fast.map(|(i, h)| (i, h.t)), slow.map(|(i, h)| (i, h.t)), "{p0} → {p1}");
+            if fast.is_none() {
+                assert!(scene.is_clear(p0, p1) || slow.is_none());
+            } else {
+                hits += 1;
+                assert!(!scene.is_clear(p0, p1), "a segment that hits was called clear");
+            }
+        }
+        assert!(hits > 200, "{hits}");
+    }
+}

@@ -8,6 +8,7 @@
 //! are closed, and a segment that starts inside one reports a hit at `t = 0` so that the caller
 //! can push the particle back out.
 
+mod broad_phase;
 mod primitives;
 mod scene;
 

@@ -1,5 +1,6 @@
 //! The set of surfaces a particle can strike, and the query for the earliest one.
 
+use super::broad_phase::Grid;
 use super::{Aabb, Hit, Shape};
 use glam::DVec3;
 
@@ -17,43 +18,83 @@ pub enum SurfaceKind {
 pub struct SurfaceRef {
     /// Geometry.
     pub shape: Shape,
-    /// Bounding box (`None` for unbounded planes).
-    pub aabb: Option<Aabb>,
     /// Target or obstacle it belongs to.
     pub kind: SurfaceKind,
     /// Index into the simulation's impact models.
     pub impact: usize,
 }
 
-/// All surfaces of a scenario.
+/// All surfaces of a scenario, indexed for segment queries.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
     surfaces: Vec<SurfaceRef>,
+    /// Surfaces without a bounding box (infinite planes), tested on every query.
+    unbounded: Vec<u32>,
+    /// Bounding box per surface (empty for unbounded ones), for a cheap reject before the
+    /// exact test.
+    boxes: Vec<Aabb>,
+    grid: Grid,
 }
 
 impl Scene {
-    /// Adds a surface.
-    pub fn push(&mut self, shape: Shape, kind: SurfaceKind, impact: usize) {
-        // A small margin keeps the cull conservative against rounding.
-        let aabb = shape.aabb().map(|b| b.inflate(1e-9));
-        self.surfaces.push(SurfaceRef { shape, aabb, kind, impact });
+    /// Indexes `surfaces` for queries inside `bounds` (the simulation domain; nothing outside
+    /// it is ever queried).
+    pub fn new(surfaces: Vec<SurfaceRef>, bounds: Aabb) -> Scene {
+        let boxes: Vec<Option<Aabb>> = surfaces.iter().map(|s| s.shape.aabb()).collect();
+        let unbounded = (0..surfaces.len() as u32).filter(|&i| boxes[i as usize].is_none()).collect();
+        let grid = Grid::new(&boxes, bounds);
+        let everywhere = Aabb { min: DVec3::NEG_INFINITY, max: DVec3::INFINITY };
+        // A small margin keeps the reject conservative against rounding.
+        let boxes = boxes.iter().map(|b| b.map_or(everywhere, |b| b.inflate(1e-9))).collect();
+        Scene { surfaces, unbounded, boxes, grid }
     }
 
-    /// The surfaces, in the order they were added.
+    /// The surfaces, in the order they were given.
     pub fn surfaces(&self) -> &[SurfaceRef] {
         &self.surfaces
     }
 
+    /// True if the segment `p0 → p1` certainly hits nothing: the cheap test that lets a
+    /// particle in free flight skip the search for the earliest hit.
+    #[inline]
+    pub fn is_clear(&self, p0: DVec3, p1: DVec3) -> bool {
+        self.unbounded.is_empty() && self.grid.is_clear(p0, p1)
+    }
+
     /// Earliest hit of the segment `p0 → p1` over all surfaces: the surface's index and the hit.
-    /// Ties go to the surface added first, so the answer never depends on evaluation order.
+    /// Ties go to the surface given first, so the answer never depends on traversal order.
     #[inline]
     pub fn first_hit(&self, p0: DVec3, p1: DVec3) -> Option<(usize, Hit)> {
+        let mut best: Option<(usize, Hit)> = None;
         let seg = Aabb::from_points(p0, p1);
+        let test = |i: u32, best: &mut Option<(usize, Hit)>| {
+            let i = i as usize;
+            if !self.boxes[i].overlaps(&seg) {
+                return;
+            }
+            if let Some(hit) = self.surfaces[i].shape.intersect(p0, p1)
+                && best.is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < j))
+            {
+                *best = Some((i, hit));
+            }
+        };
+        for &i in &self.unbounded {
+            test(i, &mut best);
+        }
+        self.grid.walk(p0, p1, |items| {
+            for &i in items {
+                test(i, &mut best);
+            }
+            best.map_or(f64::INFINITY, |(_, h)| h.t)
+        });
+        best
+    }
+
+    /// Earliest hit by testing every surface, without the grid: the reference the indexed
+    /// query must agree with.
+    pub fn first_hit_linear(&self, p0: DVec3, p1: DVec3) -> Option<(usize, Hit)> {
         let mut best: Option<(usize, Hit)> = None;
         for (i, s) in self.surfaces.iter().enumerate() {
-            if s.aabb.is_some_and(|b| !b.overlaps(&seg)) {
-                continue;
-            }
             if let Some(hit) = s.shape.intersect(p0, p1)
                 && best.is_none_or(|(_, b)| hit.t < b.t)
             {

@@ -78,6 +78,7 @@ pub struct Simulation {
     tally: Tally,
     key: StreamKey,
     next_id: u64,
+    particle_steps: u64,
     pool: Option<rayon::ThreadPool>,
 }
 
@@ -120,6 +121,11 @@ impl Simulation {
     /// Steps taken so far.
     pub fn steps_done(&self) -> u64 {
         self.step
+    }
+
+    /// Particle-steps so far: Σ over steps of the particles in flight during that step.
+    pub fn particle_steps(&self) -> u64 {
+        self.particle_steps
     }
 
     /// Steps the scenario's duration takes (the last one may end past the duration).
@@ -215,6 +221,7 @@ impl Simulation {
             max_lifetime: self.scenario.process.max_lifetime,
         };
         let s = &mut self.swarm;
+        self.particle_steps += (s.len() - self.retired) as u64;
         let chunks: Vec<SwarmChunk<'_>> = s
             .pos
             .chunks_mut(CHUNK)

@@ -1,7 +1,9 @@
 //! Turns a validated scenario into the simulation's data sets (units converted to SI radians).
 
 use super::Simulation;
-use crate::collision::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Scene, Shape, Sphere, SurfaceKind};
+use crate::collision::{
+    Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Scene, Shape, Sphere, SurfaceKind, SurfaceRef,
+};
 use crate::emitter::{Aperture, ApertureShape, Direction, DirectionKind, Emitter};
 use crate::heightfield::HeightField;
 use crate::impact::{ImpactModel, ReboundCurve};
@@ -31,7 +33,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         models.push(impact_model(&p));
         models.len() - 1
     };
-    let mut scene = Scene::default();
+    let mut surfaces = Vec::new();
     let mut targets = Vec::new();
     for (i, t) in sc.targets.iter().enumerate() {
         let face = Face::new(v3(t.center), v3(t.normal), v3(t.up), t.size);
@@ -45,11 +47,19 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             stuck: Amount::default(),
             stuck_back: Amount::default(),
         });
-        scene.push(Shape::Face(face), SurfaceKind::Target(i), model_for(&t.impact));
+        surfaces.push(SurfaceRef {
+            shape: Shape::Face(face),
+            kind: SurfaceKind::Target(i),
+            impact: model_for(&t.impact),
+        });
     }
     let mut obstacles = Vec::new();
     for (i, o) in sc.obstacles.iter().enumerate() {
-        scene.push(obstacle_shape(o), SurfaceKind::Obstacle(i), model_for(&o.impact));
+        surfaces.push(SurfaceRef {
+            shape: obstacle_shape(o),
+            kind: SurfaceKind::Obstacle(i),
+            impact: model_for(&o.impact),
+        });
         obstacles.push(Obstacle { name: o.name.clone(), hits: 0, stuck: Amount::default() });
     }
 
@@ -93,6 +103,8 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         NozzlePath::through(w.collect(), roll)
     };
 
+    let domain = Aabb { min: v3(sc.domain.min), max: v3(sc.domain.max) };
+    let scene = Scene::new(surfaces, domain);
     let s = &sc.simulation;
     // Whole steps covering the duration; the tolerance absorbs rounding of duration / dt.
     let total_steps = ((s.duration / s.dt) - 1e-9).ceil().max(1.0) as u64;
@@ -107,12 +119,13 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         scene,
         models,
         motion: Motion { gravity: GRAVITY, drag: sc.process.drag, integrator: s.integrator },
-        domain: Aabb { min: v3(sc.domain.min), max: v3(sc.domain.max) },
+        domain,
         targets,
         obstacles,
         tally: Tally::default(),
         key: StreamKey::new(s.seed),
         next_id: 0,
+        particle_steps: 0,
         pool: None,
     }
 }

@@ -66,42 +66,57 @@ pub(crate) struct SwarmChunk<'a> {
 
 impl UpdateContext<'_> {
     /// Advances every live particle of `chunk` by one step.
-    pub fn run_chunk(&self, chunk: SwarmChunk<'_>) -> ChunkOutcome {
+    pub fn run_chunk(&self, mut chunk: SwarmChunk<'_>) -> ChunkOutcome {
         let mut out = ChunkOutcome::default();
         for i in 0..chunk.pos.len() {
             if chunk.flags[i] & flags::ALIVE == 0 {
                 continue;
             }
-            let mut p = Particle {
-                pos: chunk.pos[i],
-                vel: chunk.vel[i],
-                volume: chunk.volume[i],
-                id: chunk.id[i],
-                impacts: chunk.impacts[i],
-                flags: chunk.flags[i],
-            };
-            let stuck = self.advance(&mut p, &mut out.impacts);
             let age = f64::from(chunk.age[i]) + self.dt;
-            let volume = f64::from(p.volume);
-            if !stuck {
-                if !self.domain.contains(p.pos) {
-                    p.flags &= !flags::ALIVE;
-                    out.left_domain.add(volume);
-                } else if age > self.max_lifetime || p.impacts == u16::MAX {
-                    p.flags &= !flags::ALIVE;
-                    out.expired.add(volume);
-                }
-            }
-            if p.flags & flags::ALIVE == 0 {
-                out.retired += 1;
-            }
-            chunk.pos[i] = p.pos;
-            chunk.vel[i] = p.vel;
             chunk.age[i] = age as f32;
-            chunk.impacts[i] = p.impacts;
-            chunk.flags[i] = p.flags;
+            let (x, v) = (chunk.pos[i], chunk.vel[i]);
+            let (x1, v1) = self.motion.advance(x, v, self.dt);
+            // Free flight, the common case: nothing to hit, nothing to retire.
+            if self.scene.is_clear(x, x1) && self.domain.contains(x1) && age <= self.max_lifetime {
+                chunk.pos[i] = x1;
+                chunk.vel[i] = v1;
+                continue;
+            }
+            self.advance_slow(&mut chunk, i, age, &mut out);
         }
         out
+    }
+
+    /// The full step of particle `i`: impacts, then retirement checks.
+    #[inline(never)]
+    #[cold]
+    fn advance_slow(&self, chunk: &mut SwarmChunk<'_>, i: usize, age: f64, out: &mut ChunkOutcome) {
+        let mut p = Particle {
+            pos: chunk.pos[i],
+            vel: chunk.vel[i],
+            volume: chunk.volume[i],
+            id: chunk.id[i],
+            impacts: chunk.impacts[i],
+            flags: chunk.flags[i],
+        };
+        let stuck = self.advance(&mut p, &mut out.impacts);
+        let volume = f64::from(p.volume);
+        if !stuck {
+            if !self.domain.contains(p.pos) {
+                p.flags &= !flags::ALIVE;
+                out.left_domain.add(volume);
+            } else if age > self.max_lifetime || p.impacts == u16::MAX {
+                p.flags &= !flags::ALIVE;
+                out.expired.add(volume);
+            }
+        }
+        if p.flags & flags::ALIVE == 0 {
+            out.retired += 1;
+        }
+        chunk.pos[i] = p.pos;
+        chunk.vel[i] = p.vel;
+        chunk.impacts[i] = p.impacts;
+        chunk.flags[i] = p.flags;
     }
 
     /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true

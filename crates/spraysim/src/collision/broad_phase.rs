@@ -1,0 +1,207 @@
+//! Broad phase: a uniform grid over the bounded surfaces, walked cell by cell along a segment
+//! (3D DDA), so that a particle in free flight tests nothing and one near a surface tests only
+//! the few surfaces that share its cells, whatever their total number.
+
+use super::Aabb;
+use glam::{DVec3, IVec3};
+
+/// Most grid cells; the cell size grows to respect it.
+const MAX_CELLS: f64 = 2_097_152.0;
+/// Smallest cell edge, m.
+const MIN_CELL: f64 = 0.01;
+/// Margin by which each surface's box is grown when it is binned, m: far above rounding in the
+/// walk, far below any feature.
+const BIN_MARGIN: f64 = 1e-6;
+
+/// Surfaces binned into the cells their bounding boxes overlap (compressed rows).
+#[derive(Clone, Debug, Default)]
+pub struct Grid {
+    origin: DVec3,
+    cell: f64,
+    inv_cell: f64,
+    dims: IVec3,
+    /// Upper corner of the grid, m.
+    end: DVec3,
+    /// `dims - 1` as floats: the largest cell coordinate.
+    last: DVec3,
+    /// `items[start[c]..start[c + 1]]` are the surfaces in cell `c`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+    /// Per cell: it and its 26 neighbours hold no surface.
+    clear: Vec<bool>,
+}
+
+impl Grid {
+    /// Bins `boxes[i]` (surface `i`; `None`: unbounded, not binned). The grid covers `bounds`
+    /// and every box, so every point of every binned surface lies inside it.
+    pub fn new(boxes: &[Option<Aabb>], bounds: Aabb) -> Grid {
+        let bounds = boxes.iter().flatten().fold(bounds, |b, s| {
+            let s = s.inflate(BIN_MARGIN);
+            Aabb { min: b.min.min(s.min), max: b.max.max(s.max) }
+        });
+        let extent = (bounds.max - bounds.min).max(DVec3::splat(MIN_CELL));
+        let cell = (extent.x * extent.y * extent.z / MAX_CELLS).cbrt().max(MIN_CELL);
+        let dims = (extent / cell).ceil().as_ivec3().max(IVec3::ONE);
+        let last = (dims - 1).as_dvec3();
+        let mut grid = Grid {
+            origin: bounds.min,
+            cell,
+            inv_cell: 1.0 / cell,
+            dims,
+            end: bounds.min + dims.as_dvec3() * cell,
+            last,
+            start: Vec::new(),
+            items: Vec::new(),
+            clear: Vec::new(),
+        };
+        let n = (dims.x * dims.y * dims.z) as usize;
+        // Two passes, count then fill, build the compressed rows without a list per cell.
+        let mut count = vec![0u32; n + 1];
+        grid.for_each_binned_cell(boxes, |c, _| count[c + 1] += 1);
+        for c in 0..n {
+            count[c + 1] += count[c];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; count[n] as usize];
+        grid.for_each_binned_cell(boxes, |c, i| {
+            items[fill[c] as usize] = i;
+            fill[c] += 1;
+        });
+        grid.start = count;
+        grid.items = items;
+        grid.clear = (0..n).map(|c| grid.neighbourhood_is_empty(c)).collect();
+        grid
+    }
+
+    /// Calls `f(cell, surface)` for every cell each bounded surface's box overlaps, in surface
+    /// order (so each cell lists its surfaces in order).
+    fn for_each_binned_cell(&self, boxes: &[Option<Aabb>], mut f: impl FnMut(usize, u32)) {
+        for (i, b) in boxes.iter().enumerate() {
+            let Some(b) = b else { continue };
+            let b = b.inflate(BIN_MARGIN);
+            let (lo, hi) = (self.cell_of(b.min), self.cell_of(b.max));
+            for z in lo.z..=hi.z {
+                for y in lo.y..=hi.y {
+                    for x in lo.x..=hi.x {
+                        f(self.index(IVec3::new(x, y, z)), i as u32);
+                    }
+                }
+            }
+        }
+    }
+
+    fn neighbourhood_is_empty(&self, c: usize) -> bool {
+        let dx = self.dims.x as usize;
+        let dxy = dx * self.dims.y as usize;
+        let at = IVec3::new((c % dx) as i32, ((c % dxy) / dx) as i32, (c / dxy) as i32);
+        let lo = (at - 1).max(IVec3::ZERO);
+        let hi = (at + 1).min(self.dims - 1);
+        (lo.z..=hi.z).all(|z| {
+            (lo.y..=hi.y).all(|y| (lo.x..=hi.x).all(|x| self.cell_items(IVec3::new(x, y, z)).is_empty()))
+        })
+    }
+
+    /// Cell containing `p`, clamped to the grid. Clamping first makes the truncating cast a
+    /// floor, without a call to `floor`.
+    #[inline]
+    fn cell_of(&self, p: DVec3) -> IVec3 {
+        ((p - self.origin) * self.inv_cell).clamp(DVec3::ZERO, self.last).as_ivec3()
+    }
+
+    #[inline]
+    fn index(&self, c: IVec3) -> usize {
+        (c.x + self.dims.x * (c.y + self.dims.y * c.z)) as usize
+    }
+
+    #[inline]
+    fn cell_items(&self, c: IVec3) -> &[u32] {
+        let i = self.index(c);
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// True if the segment certainly touches no binned surface: it is shorter than a cell
+    /// along every axis and starts in a cell whose whole neighbourhood is empty (so it ends in
+    /// that neighbourhood), or it lies within one empty cell.
+    #[inline]
+    pub fn is_clear(&self, p0: DVec3, p1: DVec3) -> bool {
+        if self.start.is_empty() {
+            return true;
+        }
+        if !(self.origin.cmple(p0).all() && p0.cmplt(self.end).all()) {
+            return false;
+        }
+        let c = self.cell_of(p0);
+        let i = self.index(c);
+        if self.clear[i] && (p1 - p0).abs().max_element() < self.cell {
+            return true;
+        }
+        c == self.cell_of(p1) && self.start[i] == self.start[i + 1]
+    }
+
+    /// Calls `visit` with the surfaces of each cell the segment `p0 → p1` passes through, in
+    /// order along it, with the segment fraction at which that cell is left. `visit` returns the
+    /// fraction of the best hit so far; the walk stops once no later cell can beat it.
+    #[inline]
+    pub fn walk(&self, p0: DVec3, p1: DVec3, mut visit: impl FnMut(&[u32]) -> f64) {
+        if self.start.is_empty() {
+            return;
+        }
+        let c0 = self.cell_of(p0);
+        let c1 = self.cell_of(p1);
+        if c0 == c1 {
+            // The common case: a short segment inside one cell (clamping is harmless here, as
+            // the outer cells also hold whatever lies beyond the grid's edge).
+            visit(self.cell_items(c0));
+            return;
+        }
+        let d = p1 - p0;
+        // Clip the segment to the grid's box.
+        let (lo, hi) = (self.origin, self.end);
+        let (mut t_in, mut t_out) = (0.0_f64, 1.0_f64);
+        for a in 0..3 {
+            if d[a] == 0.0 {
+                if p0[a] < lo[a] || p0[a] > hi[a] {
+                    return;
+                }
+                continue;
+            }
+            let inv = 1.0 / d[a];
+            let (t0, t1) = ((lo[a] - p0[a]) * inv, (hi[a] - p0[a]) * inv);
+            t_in = t_in.max(t0.min(t1));
+            t_out = t_out.min(t0.max(t1));
+        }
+        if t_in > t_out {
+            return;
+        }
+        let mut c = self.cell_of(p0 + d * t_in);
+        let step = IVec3::new(d.x.signum() as i32, d.y.signum() as i32, d.z.signum() as i32);
+        let mut t_max = DVec3::INFINITY;
+        let mut t_delta = DVec3::INFINITY;
+        for a in 0..3 {
+            if d[a] != 0.0 {
+                let next = self.origin[a] + (c[a] + i32::from(d[a] > 0.0)) as f64 * self.cell;
+                t_max[a] = (next - p0[a]) / d[a];
+                t_delta[a] = self.cell / d[a].abs();
+            }
+        }
+        loop {
+            let best = visit(self.cell_items(c));
+            let exit = t_max.min_element();
+            if best <= exit || exit >= t_out {
+                return;
+            }
+            let a = if t_max.x <= t_max.y && t_max.x <= t_max.z {
+                0
+            } else if t_max.y <= t_max.z {
+                1
+            } else {
+                2
+            };
+            c[a] += step[a];
+            if c[a] < 0 || c[a] >= self.dims[a] {
+                return;
+            }
+            t_max[a] += t_delta[a];
+        }
+    }
+}
