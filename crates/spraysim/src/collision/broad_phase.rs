@@ -69,7 +69,7 @@ impl Grid {
         });
         grid.start = count;
         grid.items = items;
-        grid.clear = (0..n).map(|c| grid.neighbourhood_is_empty(c)).collect();
+        grid.clear = grid.empty_neighbourhoods();
         grid
     }
 
@@ -90,15 +90,19 @@ impl Grid {
         }
     }
 
-    fn neighbourhood_is_empty(&self, c: usize) -> bool {
-        let dx = self.dims.x as usize;
-        let dxy = dx * self.dims.y as usize;
-        let at = IVec3::new((c % dx) as i32, ((c % dxy) / dx) as i32, (c / dxy) as i32);
-        let lo = (at - 1).max(IVec3::ZERO);
-        let hi = (at + 1).min(self.dims - 1);
-        (lo.z..=hi.z).all(|z| {
-            (lo.y..=hi.y).all(|y| (lo.x..=hi.x).all(|x| self.cell_items(IVec3::new(x, y, z)).is_empty()))
-        })
+    /// Per cell: no surface in it or its 26 neighbours. The occupancy is dilated by one cell
+    /// along x, then y, then z (separable, so three passes instead of 27 lookups per cell).
+    fn empty_neighbourhoods(&self) -> Vec<bool> {
+        let mut occupied: Vec<bool> = self.start.windows(2).map(|w| w[0] != w[1]).collect();
+        let (dx, dy, dz) = (self.dims.x as usize, self.dims.y as usize, self.dims.z as usize);
+        for (stride, len) in [(1, dx), (dx, dy), (dx * dy, dz)] {
+            let before = occupied.clone();
+            for (c, o) in occupied.iter_mut().enumerate() {
+                let k = (c / stride) % len;
+                *o |= (k > 0 && before[c - stride]) || (k + 1 < len && before[c + stride]);
+            }
+        }
+        occupied.into_iter().map(|o| !o).collect()
     }
 
     /// Cell containing `p`, clamped to the grid. Clamping first makes the truncating cast a
