@@ -183,6 +183,7 @@ fn print_summary(m: &Metrics, wall: f64) {
 /// Runs the reference scene and its scaling variants and prints one table row each.
 fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
     use spraysim::bench::{ReferenceScene, measure};
+    use spraysim::integrator::Integrator;
     let base = ReferenceScene { spawn_rate, duration, ..ReferenceScene::default() };
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let all = if threads == 0 { cores } else { threads };
@@ -197,8 +198,16 @@ fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
         ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all),
         ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all),
         ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all),
+        ("exact integrator".into(), ReferenceScene { integrator: Integrator::Exact, ..base.clone() }, all),
+        (
+            "exact, Δt = 10 ms".into(),
+            ReferenceScene { integrator: Integrator::Exact, dt: 0.01, ..base.clone() },
+            all,
+        ),
     ];
-    println!("reference scene, Δt = 1 ms, {spawn_rate:.0} particles/s for {duration} s unless noted\n");
+    println!(
+        "reference scene, Δt = 1 ms, forward Euler, {spawn_rate:.0} particles/s for {duration} s unless noted\n"
+    );
     println!(
         "| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |"
     );

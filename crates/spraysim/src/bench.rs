@@ -3,7 +3,7 @@
 //! Reference scene: a 2 m × 2 m wall target at 1 m standoff with a 1024 × 1024 heightfield, a
 //! collector floor, a reinforcement mesh of 13 horizontal and 13 vertical bars (8 mm radius,
 //! 150 mm spacing, 50 mm in front of the wall), the shotcrete preset, a static nozzle pointed at
-//! the wall's centre, Δt = 1 ms.
+//! the wall's centre, Δt = 1 ms (all adjustable through [`ReferenceScene`]).
 
 use crate::integrator::Integrator;
 use crate::{Scenario, Simulation};
@@ -24,6 +24,8 @@ pub struct ReferenceScene {
     pub duration: f64,
     /// Integrator.
     pub integrator: Integrator,
+    /// Time step, s.
+    pub dt: f64,
 }
 
 impl Default for ReferenceScene {
@@ -34,6 +36,7 @@ impl Default for ReferenceScene {
             spawn_rate: 1e4,
             duration: 1.0,
             integrator: Integrator::Euler,
+            dt: 1e-3,
         }
     }
 }
@@ -46,7 +49,6 @@ impl ReferenceScene {
             [simulation]
             dt = 0.001
             duration = {duration}
-            integrator = "{integrator}"
             [process]
             preset = "shotcrete"
             max_lifetime = 3.0
@@ -75,10 +77,6 @@ impl ReferenceScene {
             max = [0.5, 2.5, 3.0]
             "#,
             duration = self.duration,
-            integrator = match self.integrator {
-                Integrator::Euler => "euler",
-                Integrator::SemiImplicitEuler => "semi_implicit_euler",
-            },
             rate = self.spawn_rate,
             res = self.resolution,
         );
@@ -99,8 +97,11 @@ impl ReferenceScene {
                 );
             }
         }
-        Scenario::from_toml(&t, "reference scene")
-            .unwrap_or_else(|e| panic!("the reference scene is valid: {e}"))
+        let mut sc = Scenario::from_toml(&t, "reference scene")
+            .unwrap_or_else(|e| panic!("the reference scene is valid: {e}"));
+        sc.simulation.integrator = self.integrator;
+        sc.simulation.dt = self.dt;
+        sc
     }
 }
 

@@ -15,6 +15,10 @@ pub enum Integrator {
     Euler,
     /// Semi-implicit (symplectic) Euler: `v += a(v)·Δt; x += v·Δt`.
     SemiImplicitEuler,
+    /// Exact ballistic flight `x + v τ + ½ g τ²`, with exact impact times on the parabola (no
+    /// impact is missed at any Δt). Gravity only: refused together with drag, which has no
+    /// closed form.
+    Exact,
 }
 
 /// Forces acting on a particle in flight.
@@ -45,6 +49,7 @@ impl Motion {
                 let v1 = v + a * dt;
                 (x + v1 * dt, v1)
             }
+            Integrator::Exact => (x + v * dt + 0.5 * a * dt * dt, v + a * dt),
         }
     }
 }

@@ -94,3 +94,13 @@ fn the_resolved_scenario_reproduces_the_run() {
     let second = outputs(&again, 0, &tmp.path().join("second"));
     assert_eq!(first, second);
 }
+
+#[test]
+fn the_exact_integrator_is_deterministic_across_thread_counts() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let mut sc = busy_scene(3);
+    sc.simulation.integrator = spraysim::integrator::Integrator::Exact;
+    let one = outputs(&sc, 1, &tmp.path().join("e1"));
+    let two = outputs(&sc, 2, &tmp.path().join("e2"));
+    assert_eq!(one, two);
+}

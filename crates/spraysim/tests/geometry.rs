@@ -280,3 +280,60 @@ fn indexed_scene_query_matches_the_linear_scan() {
         assert!(hits > 200, "{hits}");
     }
 }
+
+/// Exact arc hits against a reference that walks the arc as 4000 short chords.
+#[test]
+fn arc_hits_match_a_dense_polyline_for_every_primitive() {
+    use spraysim::collision::Arc;
+    const CHORDS: usize = 4000;
+    for kind in 0..6 {
+        let mut rng = ChaCha8Rng::seed_from_u64(kind as u64 + 500);
+        let mut hits = 0;
+        for _ in 0..2500 {
+            let shape = random_shape(&mut rng, kind);
+            let x0 = rand_vec(&mut rng, 1.5);
+            if shape.contains(x0) {
+                continue;
+            }
+            let aim = shape.aabb().map_or(DVec3::ZERO, |b| (b.min + b.max) / 2.0) + rand_vec(&mut rng, 0.4);
+            // Strongly curved: the acceleration bends the path by up to a metre over the arc.
+            let arc = Arc {
+                x0,
+                v0: (aim - x0) * rng.random_range(0.5..2.0),
+                g: rand_vec(&mut rng, 4.0),
+                duration: 1.0,
+            };
+            let exact = shape.intersect_arc(&arc);
+            let reference = (0..CHORDS).find_map(|k| {
+                let (a, b) = (k as f64 / CHORDS as f64, (k + 1) as f64 / CHORDS as f64);
+                shape.intersect(arc.at(a), arc.at(b)).map(|h| a + h.t / CHORDS as f64)
+            });
+            match (exact, reference) {
+                (Some(h), Some(t)) => {
+                    hits += 1;
+                    assert!((h.t - t).abs() < 2e-3, "kind {kind} {shape:?}: exact {} vs polyline {t}", h.t);
+                    assert!(h.point.distance(arc.at(h.t)) < 1e-9);
+                    assert!(h.normal.dot(arc.velocity(h.t)) <= 1e-9, "normal does not face the particle");
+                }
+                (None, Some(t)) => {
+                    // Only a chord cutting a corner the arc itself misses may differ.
+                    let mid = arc.at(t);
+                    assert!(
+                        !shape.contains(mid),
+                        "kind {kind} {shape:?}: the exact test missed a hit at {t}"
+                    );
+                }
+                (Some(h), None) => {
+                    let ahead = arc.at((h.t + 2.0 / CHORDS as f64).min(1.0));
+                    assert!(
+                        !shape.contains(ahead),
+                        "kind {kind} {shape:?}: polyline found nothing, exact {}",
+                        h.t
+                    );
+                }
+                (None, None) => {}
+            }
+        }
+        assert!(hits > 100, "kind {kind}: only {hits} hits");
+    }
+}

@@ -351,3 +351,38 @@ fn waypoints_move_the_spot_and_switch_the_spray() {
     assert_eq!(column_sum(20), 0.0);
     assert_eq!(column_sum(180), 0.0);
 }
+
+#[test]
+fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
+    use spraysim::bench::ReferenceScene;
+    use spraysim::integrator::Integrator;
+    let run_with = |integrator| {
+        let sc = ReferenceScene {
+            spawn_rate: 2e5,
+            duration: 0.5,
+            resolution: 256,
+            integrator,
+            ..ReferenceScene::default()
+        }
+        .scenario();
+        let sim = run(&sc);
+        let m = sim.metrics();
+        assert_conserved(&m);
+        assert_layer_volumes(&sim);
+        m
+    };
+    let (e, x) = (run_with(Integrator::Euler), run_with(Integrator::Exact));
+    let n = e.emitted.count as f64;
+    // Shares of the emitted particles: binomial spread, 5 standard deviations.
+    let share = |m: &Metrics, i: usize| m.targets[i].stuck.count as f64 / m.emitted.count as f64;
+    for (name, a, b) in [
+        ("wall", share(&e, 0), share(&x, 0)),
+        ("floor", share(&e, 1), share(&x, 1)),
+        ("rebound", e.rebound_ratio.unwrap_or(0.0), x.rebound_ratio.unwrap_or(0.0)),
+        ("bars", e.fates.stuck_on_obstacles.count as f64 / n, x.fates.stuck_on_obstacles.count as f64 / n),
+    ] {
+        let p = (a + b) / 2.0;
+        let tol = 5.0 * (2.0 * p * (1.0 - p) / n).sqrt() + 1e-9;
+        assert!((a - b).abs() <= tol, "{name}: Euler {a} vs exact {b} (± {tol})");
+    }
+}

@@ -142,6 +142,35 @@ impl Grid {
         c == self.cell_of(p1) && self.start[i] == self.start[i + 1]
     }
 
+    /// True if everything inside `b` certainly misses every binned surface: `b` is smaller than
+    /// a cell along every axis and its lower corner lies in a cell with an empty neighbourhood.
+    #[inline]
+    pub fn box_is_clear(&self, b: &Aabb) -> bool {
+        if self.start.is_empty() {
+            return true;
+        }
+        if !(self.origin.cmple(b.min).all() && b.min.cmplt(self.end).all()) {
+            return false;
+        }
+        (b.max - b.min).max_element() < self.cell && self.clear[self.index(self.cell_of(b.min))]
+    }
+
+    /// Calls `visit` with the surfaces of every cell that `b` overlaps (a surface spanning
+    /// several of them is visited once per cell).
+    pub fn for_each_in_box(&self, b: &Aabb, mut visit: impl FnMut(&[u32])) {
+        if self.start.is_empty() || !b.overlaps(&Aabb { min: self.origin, max: self.end }) {
+            return;
+        }
+        let (lo, hi) = (self.cell_of(b.min), self.cell_of(b.max));
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                for x in lo.x..=hi.x {
+                    visit(self.cell_items(IVec3::new(x, y, z)));
+                }
+            }
+        }
+    }
+
     /// Calls `visit` with the surfaces of each cell the segment `p0 → p1` passes through, in
     /// order along it, with the segment fraction at which that cell is left. `visit` returns the
     /// fraction of the best hit so far; the walk stops once no later cell can beat it.

@@ -8,10 +8,12 @@
 //! are closed, and a segment that starts inside one reports a hit at `t = 0` so that the caller
 //! can push the particle back out.
 
+mod arc;
 mod broad_phase;
 mod primitives;
 mod scene;
 
+pub use arc::{Arc, roots};
 pub use primitives::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere};
 pub use scene::{Scene, SurfaceKind, SurfaceRef};
 

@@ -1,7 +1,7 @@
 //! The set of surfaces a particle can strike, and the query for the earliest one.
 
 use super::broad_phase::Grid;
-use super::{Aabb, Hit, Shape};
+use super::{Aabb, Arc, Hit, Shape};
 use glam::DVec3;
 
 /// What a surface belongs to.
@@ -87,6 +87,33 @@ impl Scene {
             }
             best.map_or(f64::INFINITY, |(_, h)| h.t)
         });
+        best
+    }
+
+    /// True if the arc certainly hits nothing (it stays inside one empty neighbourhood).
+    #[inline]
+    pub fn arc_is_clear(&self, arc: &Arc) -> bool {
+        self.unbounded.is_empty() && self.grid.box_is_clear(&arc.aabb())
+    }
+
+    /// Earliest exact hit of a ballistic arc over all surfaces: the surface's index and the hit
+    /// (`Hit::t` is the fraction of the arc's duration). Ties go to the surface given first.
+    pub fn first_hit_arc(&self, arc: &Arc) -> Option<(usize, Hit)> {
+        let bounds = arc.aabb();
+        let mut best: Option<(usize, Hit)> = None;
+        let mut test = |i: u32| {
+            let i = i as usize;
+            if !self.boxes[i].overlaps(&bounds) {
+                return;
+            }
+            if let Some(hit) = self.surfaces[i].shape.intersect_arc(arc)
+                && best.is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < j))
+            {
+                best = Some((i, hit));
+            }
+        };
+        self.unbounded.iter().for_each(|&i| test(i));
+        self.grid.for_each_in_box(&bounds, |items| items.iter().for_each(|&i| test(i)));
         best
     }
 

@@ -3,9 +3,9 @@
 //! its own random stream; what it does to shared state (deposits, hit counts) is returned as
 //! [`ImpactRecord`]s for the apply stage.
 
-use crate::collision::{Aabb, SURFACE_OFFSET, Scene, SurfaceKind};
+use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceKind};
 use crate::impact::{ImpactModel, Outcome};
-use crate::integrator::Motion;
+use crate::integrator::{Integrator, Motion};
 use crate::rng::StreamKey;
 use crate::scenario::Role;
 use crate::swarm::flags;
@@ -77,7 +77,7 @@ impl UpdateContext<'_> {
             let (x, v) = (chunk.pos[i], chunk.vel[i]);
             let (x1, v1) = self.motion.advance(x, v, self.dt);
             // Free flight, the common case: nothing to hit, nothing to retire.
-            if self.scene.is_clear(x, x1) && self.domain.contains(x1) && age <= self.max_lifetime {
+            if self.is_clear(x, v, x1) && self.domain.contains(x1) && age <= self.max_lifetime {
                 chunk.pos[i] = x1;
                 chunk.vel[i] = v1;
                 continue;
@@ -119,24 +119,51 @@ impl UpdateContext<'_> {
         chunk.flags[i] = p.flags;
     }
 
+    /// True if the flight from `x` with velocity `v` to `x1` over one step certainly hits nothing.
+    #[inline]
+    fn is_clear(&self, x: DVec3, v: DVec3, x1: DVec3) -> bool {
+        match self.motion.integrator {
+            Integrator::Exact => {
+                self.scene.arc_is_clear(&Arc { x0: x, v0: v, g: self.motion.gravity, duration: self.dt })
+            }
+            Integrator::Euler | Integrator::SemiImplicitEuler => self.scene.is_clear(x, x1),
+        }
+    }
+
+    /// Flies from `x` with velocity `v` for `dt`: the end position and velocity, and the first
+    /// hit on the way with the velocity at impact.
+    fn fly(&self, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3, Option<(usize, Hit, DVec3)>) {
+        let (x1, v1) = self.motion.advance(x, v, dt);
+        let hit = match self.motion.integrator {
+            Integrator::Exact => {
+                let arc = Arc { x0: x, v0: v, g: self.motion.gravity, duration: dt };
+                self.scene.first_hit_arc(&arc).map(|(s, h)| (s, h, arc.velocity(h.t * dt)))
+            }
+            Integrator::Euler | Integrator::SemiImplicitEuler => self.scene.first_hit(x, x1).map(|(s, h)| {
+                // Velocity at the hit, consistent with the straight segment that found it.
+                let mut v_in = v.lerp(v1, h.t);
+                if v_in.dot(h.normal) >= 0.0 {
+                    v_in = (x1 - x).normalize_or_zero() * v_in.length();
+                }
+                (s, h, v_in)
+            }),
+        };
+        (x1, v1, hit)
+    }
+
     /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true
     /// if it stuck (and clears its `ALIVE` bit).
     fn advance(&self, p: &mut Particle, records: &mut Vec<ImpactRecord>) -> bool {
         let mut x = p.pos;
         let mut v = p.vel;
         let mut remaining = self.dt;
-        let (mut x_end, mut v_end) = self.motion.advance(x, v, remaining);
         for _ in 0..self.max_impacts {
-            let Some((s, hit)) = self.scene.first_hit(x, x_end) else {
+            let (x_end, v_end, hit) = self.fly(x, v, remaining);
+            let Some((s, hit, v_in)) = hit else {
                 p.pos = x_end;
                 p.vel = v_end;
                 return false;
             };
-            // Velocity at the hit, consistent with the straight segment that found it.
-            let mut v_in = v.lerp(v_end, hit.t);
-            if v_in.dot(hit.normal) >= 0.0 {
-                v_in = (x_end - x).normalize_or_zero() * v_in.length();
-            }
             p.impacts = p.impacts.saturating_add(1);
             let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
             let surface = &self.scene.surfaces()[s];
@@ -169,7 +196,6 @@ impl UpdateContext<'_> {
                     x = hit.point + hit.normal * SURFACE_OFFSET;
                     v = v_out;
                     remaining *= 1.0 - hit.t;
-                    (x_end, v_end) = self.motion.advance(x, v, remaining);
                 }
             }
         }

@@ -120,6 +120,12 @@ impl Scenario {
         if s.duration / s.dt > 1e9 {
             return Err(bad("simulation.duration", "needs more than 10⁹ steps at this dt"));
         }
+        if s.integrator == crate::integrator::Integrator::Exact && self.process.drag != 0.0 {
+            return Err(bad(
+                "simulation.integrator",
+                "\"exact\" has no closed form with drag; set process.drag = 0 or use \"euler\" or \"semi_implicit_euler\"",
+            ));
+        }
         if !(1..=1000).contains(&s.max_impacts_per_step) {
             return Err(bad("simulation.max_impacts_per_step", "must be between 1 and 1000"));
         }
