@@ -30,6 +30,9 @@ use update::{SwarmChunk, UpdateContext, record};
 /// the order in which records are applied, never depends on the thread count.
 const CHUNK: usize = 4096;
 
+/// Emitting at least this many particles in one step samples them in parallel.
+const EMIT_PARALLEL: u64 = 256;
+
 /// Why a simulation could not be set up.
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {
@@ -198,14 +201,25 @@ impl Simulation {
         }
         let n = self.emitter.spawn_count(self.scenario.simulation.dt);
         let volume = self.emitter.particle_volume as f32;
-        for _ in 0..n {
-            let mut rng = self.key.stream(self.next_id, 0);
-            let (pos, vel) = self.emitter.sample(&frame, &mut rng);
+        let (emitter, key, first) = (&self.emitter, self.key, self.next_id);
+        // Each particle samples from its own stream, so the split over threads cannot change
+        // the result; small batches are not worth the dispatch.
+        let sample = |id: u64| emitter.sample(&frame, &mut key.stream(id, 0));
+        let born: Vec<_> = if n >= EMIT_PARALLEL {
+            let work = || (first..first + n).into_par_iter().map(sample).collect();
+            match &self.pool {
+                Some(pool) => pool.install(work),
+                None => work(),
+            }
+        } else {
+            (first..first + n).map(sample).collect()
+        };
+        for (k, (pos, vel)) in born.into_iter().enumerate() {
             // Validation bounds the run's particle count by 2³², so the id fits.
-            self.swarm.push(pos, vel, volume, self.next_id as u32);
+            self.swarm.push(pos, vel, volume, (first + k as u64) as u32);
             self.tally.emitted.add(f64::from(volume));
-            self.next_id += 1;
         }
+        self.next_id += n;
     }
 
     fn update(&mut self) -> Vec<update::ChunkOutcome> {
