@@ -3,7 +3,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-/// Standard gravity along −z, m/s².
+/// Standard gravity along −z, m/s² (the default of `[simulation] gravity`).
 pub const GRAVITY: DVec3 = DVec3::new(0.0, 0.0, -9.81);
 
 /// Time-stepping scheme.

@@ -7,7 +7,7 @@ use crate::collision::{
 use crate::emitter::{Aperture, ApertureShape, Direction, DirectionKind, Emitter};
 use crate::heightfield::HeightField;
 use crate::impact::{ImpactModel, ReboundCurve};
-use crate::integrator::{GRAVITY, Motion};
+use crate::integrator::Motion;
 use crate::metrics::Tally;
 use crate::nozzle::{NozzlePath, Waypoint};
 use crate::rng::StreamKey;
@@ -118,7 +118,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         nozzle,
         scene,
         models,
-        motion: Motion { gravity: GRAVITY, drag: sc.process.drag, integrator: s.integrator },
+        motion: Motion { gravity: v3(s.gravity), drag: sc.process.drag, integrator: s.integrator },
         domain,
         targets,
         obstacles,

@@ -140,6 +140,9 @@ pub struct SimulationParams {
     /// Most impacts resolved for one particle within one step; past it the particle waits for
     /// the next step at its last impact point. Default 8.
     pub max_impacts_per_step: u32,
+    /// Gravitational acceleration, m/s². Default `[0, 0, -9.81]` (z up); zero it for
+    /// verification against gravity-free closed forms.
+    pub gravity: [f64; 3],
 }
 
 impl Default for SimulationParams {
@@ -150,6 +153,7 @@ impl Default for SimulationParams {
             seed: 1,
             integrator: Integrator::Euler,
             max_impacts_per_step: 8,
+            gravity: crate::integrator::GRAVITY.to_array(),
         }
     }
 }

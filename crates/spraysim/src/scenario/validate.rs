@@ -126,6 +126,9 @@ impl Scenario {
                 "\"exact\" has no closed form with drag; set process.drag = 0 or use \"euler\" or \"semi_implicit_euler\"",
             ));
         }
+        for g in s.gravity {
+            range("simulation.gravity", g, -100.0, 100.0, "m/s²")?;
+        }
         if !(1..=1000).contains(&s.max_impacts_per_step) {
             return Err(bad("simulation.max_impacts_per_step", "must be between 1 and 1000"));
         }
