@@ -138,3 +138,62 @@ mod tests {
         }
     }
 }
+
+/// Waypoints of a raster over `face` (see [`crate::scenario::RasterParams`]): passes from the
+/// bottom (horizontal) or the left (vertical), alternating direction, the nozzle at the standoff
+/// along the face's normal, spraying against it; a circular motion, if any, is sampled 36 times
+/// per revolution.
+pub fn raster_waypoints(face: &crate::collision::Face, r: &crate::scenario::RasterParams) -> Vec<Waypoint> {
+    use crate::scenario::PassDirection;
+    let [w, h] = r.size.unwrap_or([2.0 * face.half_width, 2.0 * face.half_height]);
+    let centre = face.center + face.right * r.offset[0] + face.up * r.offset[1] + face.normal * r.standoff;
+    // `along`: the pass direction; `across`: the step-over direction.
+    let (along, across, length, span) = match r.passes {
+        PassDirection::Horizontal => (face.right, face.up, w, h),
+        PassDirection::Vertical => (face.up, face.right, h, w),
+    };
+    let passes = (span / r.step_over + 1e-9).floor() as usize + 1;
+    let half = length / 2.0 + r.lead;
+    // Corners of the zig-zag, with the spray state of the leg that starts there.
+    let mut corners: Vec<(DVec3, bool)> = Vec::new();
+    for k in 0..passes {
+        let b = -span / 2.0 + k as f64 * r.step_over;
+        let (from, to) = if k % 2 == 0 { (-half, half) } else { (half, -half) };
+        corners.push((centre + across * b + along * from, true));
+        corners.push((centre + across * b + along * to, r.spray_on_turns && k + 1 < passes));
+    }
+    // Times at the corners, at constant travel speed.
+    let mut times = vec![r.start_time];
+    for pair in corners.windows(2) {
+        let last = times[times.len() - 1];
+        times.push(last + pair[0].0.distance(pair[1].0) / r.speed);
+    }
+    let axis = -face.normal;
+    let circle = |t: f64| {
+        let phase = std::f64::consts::TAU * r.circle_frequency * (t - r.start_time);
+        (along * phase.cos() + across * phase.sin()) * r.circle_radius
+    };
+    let mut out = Vec::new();
+    let sample = if r.circle_radius > 0.0 && r.circle_frequency > 0.0 {
+        1.0 / (36.0 * r.circle_frequency)
+    } else {
+        f64::INFINITY
+    };
+    for (i, pair) in corners.windows(2).enumerate() {
+        let (t0, t1) = (times[i], times[i + 1]);
+        let n = ((t1 - t0) / sample).ceil().max(1.0) as usize;
+        for j in 0..n {
+            let f = j as f64 / n as f64;
+            let t = t0 + f * (t1 - t0);
+            out.push(Waypoint {
+                time: t,
+                position: pair[0].0.lerp(pair[1].0, f) + circle(t),
+                axis,
+                spray: pair[0].1,
+            });
+        }
+    }
+    let (end, t_end) = (corners[corners.len() - 1].0, times[times.len() - 1]);
+    out.push(Waypoint { time: t_end, position: end + circle(t_end), axis, spray: false });
+    out
+}

@@ -9,7 +9,7 @@ use crate::heightfield::HeightField;
 use crate::impact::{ImpactModel, ReboundCurve};
 use crate::integrator::Motion;
 use crate::metrics::Tally;
-use crate::nozzle::{NozzlePath, Waypoint};
+use crate::nozzle::{NozzlePath, Waypoint, raster_waypoints};
 use crate::rng::StreamKey;
 use crate::scenario::{ImpactOverride, ImpactParams, ObstacleParams, ObstacleShape, ReboundModel, Scenario};
 use crate::swarm::Swarm;
@@ -91,7 +91,11 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
 
     let n = &sc.nozzle;
     let roll = n.roll.to_radians();
-    let nozzle = if n.waypoints.is_empty() {
+    let nozzle = if let Some(r) = &n.raster {
+        // Validation guarantees the raster's target exists.
+        let face = sc.targets.iter().position(|t| t.name == r.target).map(|i| targets[i].face);
+        NozzlePath::through(face.map(|f| raster_waypoints(&f, r)).unwrap_or_default(), roll)
+    } else if n.waypoints.is_empty() {
         NozzlePath::fixed(v3(n.position), v3(n.axis), roll)
     } else {
         let w = n.waypoints.iter().map(|w| Waypoint {

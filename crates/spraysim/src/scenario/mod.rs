@@ -6,6 +6,7 @@
 
 mod params;
 mod presets;
+mod tool_path;
 mod validate;
 
 pub use params::*;
@@ -136,23 +137,40 @@ fn default_domain(
 }
 
 impl Scenario {
-    /// Reads, resolves and validates a scenario file.
+    /// Reads, resolves and validates a scenario file. A tool path it names is read relative to
+    /// the file's folder.
     pub fn from_path(path: &Path) -> Result<Scenario, ScenarioError> {
         let origin = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|source| ScenarioError::Read { origin: origin.clone(), source })?;
-        Scenario::from_toml(&text, &origin)
+        Scenario::parse(&text, &origin, path.parent().unwrap_or(Path::new(".")))
     }
 
-    /// Parses, resolves and validates scenario text; `origin` names it in errors.
+    /// Parses, resolves and validates scenario text; `origin` names it in errors. A tool path
+    /// it names is read relative to the working directory.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scenario, ScenarioError> {
-        let file: ScenarioFile = toml::from_str(text).map_err(|e| {
+        Scenario::parse(text, origin, Path::new("."))
+    }
+
+    fn parse(text: &str, origin: &str, base: &Path) -> Result<Scenario, ScenarioError> {
+        let mut file: ScenarioFile = toml::from_str(text).map_err(|e| {
             let line = e.span().map(|s| line_of(text, s.start));
             ScenarioError::Syntax {
                 location: location(origin, line),
                 message: e.message().trim().to_string(),
             }
         })?;
+        if let Some(csv) = file.nozzle.path_csv.take() {
+            if !file.nozzle.waypoints.is_empty() {
+                let line = locate(text, "nozzle.path_csv");
+                return Err(ScenarioError::Invalid {
+                    location: location(origin, line),
+                    key: "nozzle.path_csv".into(),
+                    message: "cannot be combined with nozzle.waypoints".into(),
+                });
+            }
+            file.nozzle.waypoints = tool_path::read(&base.join(csv))?;
+        }
         let scenario = file.resolve();
         scenario.validate().map_err(|inv| {
             let line = locate(text, &inv.key);

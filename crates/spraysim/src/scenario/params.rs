@@ -286,11 +286,88 @@ pub struct NozzleParams {
     pub roll: f64,
     /// Time-stamped poses; position is interpolated linearly, the axis spherically.
     pub waypoints: Vec<WaypointParams>,
+    /// A robot tool path to read into `waypoints`: a CSV file (relative to the scenario's
+    /// folder) with the header `t,x,y,z,qx,qy,qz,qw` and optionally `spray`; the spray axis is
+    /// the tool's z axis. The resolved scenario holds the waypoints it read.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path_csv: Option<String>,
+    /// A raster (zig-zag) pass over a target, generated when the simulation starts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub raster: Option<RasterParams>,
+}
+
+/// Direction of the raster's passes in the target's face.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PassDirection {
+    /// Passes along the face's width (`up × normal`), stepping up from the bottom edge.
+    #[default]
+    Horizontal,
+    /// Passes along the face's height (`up`), stepping right from the left edge.
+    Vertical,
+}
+
+/// `[nozzle.raster]`: a zig-zag pass over a rectangle of a target's face at a standoff, with an
+/// optional circular motion superposed (the shotcrete nozzle technique).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RasterParams {
+    /// Name of the target whose face is covered (required).
+    pub target: String,
+    /// `[width, height]` of the covered rectangle, m. Default: the target's size.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size: Option<[f64; 2]>,
+    /// Centre of the rectangle from the face's centre, `[right, up]`, m. Default `[0, 0]`.
+    pub offset: [f64; 2],
+    /// Distance of the nozzle from the face along its normal, m. Default 1.
+    pub standoff: f64,
+    /// Travel speed along the path, m/s. Default 0.5.
+    pub speed: f64,
+    /// Distance between neighbouring passes, m. Default 0.1.
+    pub step_over: f64,
+    /// `"horizontal"` (default) or `"vertical"` passes.
+    pub passes: PassDirection,
+    /// Travel beyond the rectangle's edge at each end of a pass, spraying, m. Default 0.1.
+    pub lead: f64,
+    /// Whether the nozzle sprays while stepping over between passes. Default false.
+    pub spray_on_turns: bool,
+    /// Radius of a circular motion superposed on the path, m. Default 0 (none).
+    pub circle_radius: f64,
+    /// Revolutions per second of that circular motion, Hz. Default 0.
+    pub circle_frequency: f64,
+    /// Time at which the raster starts, s. Default 0.
+    pub start_time: f64,
+}
+
+impl Default for RasterParams {
+    fn default() -> Self {
+        RasterParams {
+            target: String::new(),
+            size: None,
+            offset: [0.0, 0.0],
+            standoff: 1.0,
+            speed: 0.5,
+            step_over: 0.1,
+            passes: PassDirection::Horizontal,
+            lead: 0.1,
+            spray_on_turns: false,
+            circle_radius: 0.0,
+            circle_frequency: 0.0,
+            start_time: 0.0,
+        }
+    }
 }
 
 impl Default for NozzleParams {
     fn default() -> Self {
-        NozzleParams { position: [-1.0, 0.0, 1.0], axis: [1.0, 0.0, 0.0], roll: 0.0, waypoints: Vec::new() }
+        NozzleParams {
+            position: [-1.0, 0.0, 1.0],
+            axis: [1.0, 0.0, 0.0],
+            roll: 0.0,
+            waypoints: Vec::new(),
+            path_csv: None,
+            raster: None,
+        }
     }
 }
 

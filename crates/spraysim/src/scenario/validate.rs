@@ -194,6 +194,15 @@ impl Scenario {
     fn check_nozzle(&self) -> Check {
         let n = &self.nozzle;
         range("nozzle.roll", n.roll, -360.0, 360.0, "degrees")?;
+        if let Some(r) = &n.raster {
+            if !n.waypoints.is_empty() {
+                return Err(bad(
+                    "nozzle.raster",
+                    "cannot be combined with nozzle.waypoints or nozzle.path_csv",
+                ));
+            }
+            return self.check_raster(r);
+        }
         if n.waypoints.is_empty() {
             point("nozzle.position", n.position)?;
             direction("nozzle.axis", n.axis)?;
@@ -217,6 +226,50 @@ impl Scenario {
                 }
             }
             previous = Some((w.time, axis));
+        }
+        Ok(())
+    }
+}
+
+impl Scenario {
+    fn check_raster(&self, r: &RasterParams) -> Check {
+        let Some(target) = self.targets.iter().find(|t| t.name == r.target) else {
+            let names: Vec<&str> = self.targets.iter().map(|t| t.name.as_str()).collect();
+            return Err(bad(
+                "nozzle.raster.target",
+                format!("must name a target ({}), got {:?}", names.join(", "), r.target),
+            ));
+        };
+        if let Some(size) = r.size {
+            for s in size {
+                positive("nozzle.raster.size", s, 1e3, "m")?;
+            }
+        }
+        let [w, h] = r.size.unwrap_or(target.size);
+        for (i, o) in r.offset.iter().enumerate() {
+            range("nozzle.raster.offset", *o, -target.size[i], target.size[i], "m")?;
+        }
+        positive("nozzle.raster.standoff", r.standoff, 100.0, "m")?;
+        positive("nozzle.raster.speed", r.speed, 100.0, "m/s")?;
+        positive("nozzle.raster.step_over", r.step_over, 100.0, "m")?;
+        range("nozzle.raster.lead", r.lead, 0.0, 100.0, "m")?;
+        range("nozzle.raster.circle_radius", r.circle_radius, 0.0, 10.0, "m")?;
+        range("nozzle.raster.circle_frequency", r.circle_frequency, 0.0, 100.0, "Hz")?;
+        if r.circle_radius > 0.0 && r.circle_frequency == 0.0 {
+            return Err(bad(
+                "nozzle.raster.circle_frequency",
+                "must be above 0 Hz when circle_radius is set",
+            ));
+        }
+        range("nozzle.raster.start_time", r.start_time, 0.0, 1e6, "s")?;
+        let span = match r.passes {
+            PassDirection::Horizontal => h,
+            PassDirection::Vertical => w,
+        };
+        let passes = span / r.step_over;
+        let travel = passes * (w.max(h) + 2.0 * r.lead + r.step_over) / r.speed;
+        if passes > 1e5 || travel * r.circle_frequency * 36.0 > 1e7 {
+            return Err(bad("nozzle.raster.step_over", "makes a path of more than 10⁷ waypoints"));
         }
         Ok(())
     }

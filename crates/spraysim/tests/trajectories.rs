@@ -1,0 +1,168 @@
+//! Robot trajectories: raster passes and CSV tool paths.
+
+use glam::{DQuat, DVec3};
+use spraysim::collision::Face;
+use spraysim::nozzle::raster_waypoints;
+use spraysim::scenario::{PassDirection, RasterParams};
+use spraysim::{Scenario, Simulation};
+
+fn wall() -> Face {
+    Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::new(-1.0, 0.0, 0.0), DVec3::Z, [2.0, 2.0])
+}
+
+#[test]
+fn raster_runs_bottom_up_at_constant_speed_and_standoff() {
+    let r = RasterParams {
+        target: "wall".into(),
+        size: Some([1.0, 0.6]),
+        step_over: 0.2,
+        speed: 0.4,
+        lead: 0.1,
+        ..RasterParams::default()
+    };
+    let w = raster_waypoints(&wall(), &r);
+    // 4 passes (0, 0.2, 0.4, 0.6 m up) of 1.2 m, 3 turns of 0.2 m: 5.4 m at 0.4 m/s.
+    assert!((w[w.len() - 1].time - 5.4 / 0.4).abs() < 1e-12);
+    for pair in w.windows(2) {
+        let speed = pair[0].position.distance(pair[1].position) / (pair[1].time - pair[0].time);
+        assert!((speed - 0.4).abs() < 1e-9, "speed {speed}");
+        assert!((pair[0].position.x + 1.0).abs() < 1e-12, "standoff");
+        assert_eq!(pair[0].axis, DVec3::X);
+    }
+    assert!((w[0].position.z - 0.7).abs() < 1e-12, "starts at the bottom edge");
+    assert!((w[0].position.y - 0.6).abs() < 1e-12, "starts at the left (right = −y), lead included");
+    // Spraying on passes, not on turns.
+    let spraying: Vec<bool> = w.iter().map(|p| p.spray).collect();
+    assert_eq!(spraying, [true, false, true, false, true, false, true, false]);
+    let vertical = raster_waypoints(&wall(), &RasterParams { passes: PassDirection::Vertical, ..r });
+    assert!((vertical[1].position.z - vertical[0].position.z).abs() > 0.5, "vertical passes run along up");
+}
+
+#[test]
+fn circular_motion_circles_the_raster_line() {
+    let r = RasterParams {
+        target: "wall".into(),
+        size: Some([1.0, 0.0]),
+        speed: 0.5,
+        lead: 0.0,
+        circle_radius: 0.05,
+        circle_frequency: 2.0,
+        ..RasterParams::default()
+    };
+    let w = raster_waypoints(&wall(), &r);
+    for p in &w[..w.len() - 1] {
+        // Straight line at z = 1 moving along −y: the offset from it is a 5 cm circle.
+        let line_y = 0.5 - 0.5 * p.time;
+        let off = DVec3::new(0.0, p.position.y - line_y, p.position.z - 1.0);
+        assert!((off.length() - 0.05).abs() < 1e-12, "{off}");
+    }
+    // 36 samples a revolution, 4 revolutions over 2 s.
+    assert_eq!(w.len(), 36 * 4 + 1);
+}
+
+fn raster_scene(extra: &str) -> String {
+    format!(
+        r#"
+        [simulation]
+        duration = 2.0
+        [process]
+        preset = "painting"
+        [[target]]
+        name = "panel"
+        center = [0.0, 0.0, 1.0]
+        normal = [-1.0, 0.0, 0.0]
+        up = [0.0, 0.0, 1.0]
+        size = [1.0, 1.0]
+        resolution = [100, 100]
+        {extra}
+        "#
+    )
+}
+
+#[test]
+fn a_raster_covers_its_rectangle_and_nothing_far_outside() {
+    let sc = Scenario::from_toml(
+        &raster_scene(
+            "[nozzle.raster]\ntarget = \"panel\"\nsize = [0.6, 0.4]\nstandoff = 0.25\nspeed = 2.0\nstep_over = 0.1\nlead = 0.0",
+        ),
+        "raster",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = Simulation::new(&sc).expect("valid");
+    sim.run(|_| {});
+    let t = sim.targets()[0].field.thickness();
+    let at = |u: f64, v: f64| t[((v + 0.5) * 100.0) as usize * 100 + ((u + 0.5) * 100.0) as usize];
+    for (u, v) in [(0.0, 0.0), (0.25, 0.15), (-0.25, -0.15)] {
+        assert!(at(u, v) > 0.0, "no paint at ({u}, {v})");
+    }
+    for (u, v) in [(0.0, 0.45), (0.45, 0.0), (-0.45, -0.45)] {
+        assert_eq!(at(u, v), 0.0, "paint far outside the raster at ({u}, {v})");
+    }
+}
+
+#[test]
+fn a_csv_tool_path_and_the_same_waypoints_give_identical_outputs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    // A pass along the panel, tilting the tool about its path, spray off for the last leg.
+    let poses = [
+        (0.0, [-0.3, 0.4, 1.0], DQuat::from_rotation_y(std::f64::consts::FRAC_PI_2), true),
+        (0.5, [-0.3, 0.0, 1.1], DQuat::from_rotation_y(1.4) * DQuat::from_rotation_x(0.1), true),
+        (1.0, [-0.3, -0.4, 0.9], DQuat::from_rotation_y(1.7), false),
+        (1.5, [-0.3, -0.4, 0.9], DQuat::from_rotation_y(1.7), false),
+    ];
+    let mut csv = String::from("t,x,y,z,qx,qy,qz,qw,spray\n");
+    let mut waypoints = String::new();
+    for (t, p, q, spray) in poses {
+        csv.push_str(&format!(
+            "{t:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{}\n",
+            p[0],
+            p[1],
+            p[2],
+            q.x,
+            q.y,
+            q.z,
+            q.w,
+            u8::from(spray)
+        ));
+        let axis = q.normalize() * DVec3::Z;
+        waypoints.push_str(&format!(
+            "[[nozzle.waypoints]]\ntime = {t:?}\nposition = {p:?}\naxis = [{:?}, {:?}, {:?}]\nspray = {spray}\n",
+            axis.x, axis.y, axis.z
+        ));
+    }
+    std::fs::write(tmp.path().join("path.csv"), csv).expect("write");
+    std::fs::write(tmp.path().join("csv.toml"), raster_scene("[nozzle]\npath_csv = \"path.csv\""))
+        .expect("write");
+    let from_csv = Scenario::from_path(&tmp.path().join("csv.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let from_waypoints =
+        Scenario::from_toml(&raster_scene(&waypoints), "waypoints").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(from_csv, from_waypoints);
+    let run = |sc: &Scenario, dir: &str| {
+        let mut sim = Simulation::new(sc).expect("valid");
+        sim.run(|_| {});
+        assert!(sim.metrics().emitted.count > 10_000);
+        let files = spraysim::io::write_outputs(&sim, &tmp.path().join(dir)).expect("written");
+        files.iter().map(|f| std::fs::read(f).expect("read")).collect::<Vec<_>>()
+    };
+    assert_eq!(run(&from_csv, "a"), run(&from_waypoints, "b"));
+}
+
+#[test]
+fn bad_tool_paths_name_the_file_line_and_column() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (csv, expect) in [
+        ("t,x,y,z,qx,qy,qw\n0,0,0,1,0,0,1\n", "path.csv:1: missing column `qz`"),
+        (
+            "t,x,y,z,qx,qy,qz,qw\n0,0,0,1,0,0,0,1\n0.5,0,zero,1,0,0,0,1\n",
+            "path.csv:3: column `y`: \"zero\" is not a finite number",
+        ),
+        ("t,x,y,z,qx,qy,qz,qw\n0,0,0,1,0,0,0,0\n", "path.csv:2: the quaternion"),
+        ("t,x,y,z,qx,qy,qz,qw,spray\n0,0,0,1,0,0,0,1,maybe\n", "path.csv:2: column `spray`"),
+    ] {
+        std::fs::write(tmp.path().join("path.csv"), csv).expect("write");
+        std::fs::write(tmp.path().join("s.toml"), raster_scene("[nozzle]\npath_csv = \"path.csv\""))
+            .expect("write");
+        let err = Scenario::from_path(&tmp.path().join("s.toml")).expect_err("refused").to_string();
+        assert!(err.contains(expect), "{err}");
+    }
+}
