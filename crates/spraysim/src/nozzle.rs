@@ -95,50 +95,6 @@ pub fn slerp(a: DVec3, b: DVec3, f: f64) -> DVec3 {
     (a * ((1.0 - f) * omega).sin() / s + b * (f * omega).sin() / s).normalize()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn waypoints_interpolate_position_linearly_and_axis_on_the_sphere() {
-        let path = NozzlePath::through(
-            vec![
-                Waypoint { time: 1.0, position: DVec3::ZERO, axis: DVec3::X, spray: true },
-                Waypoint {
-                    time: 3.0,
-                    position: DVec3::new(2.0, 0.0, 0.0),
-                    axis: DVec3::Y * 5.0,
-                    spray: false,
-                },
-            ],
-            0.0,
-        );
-        let (f, spray) = path.at(2.0);
-        assert!(spray);
-        assert!(f.position.abs_diff_eq(DVec3::new(1.0, 0.0, 0.0), 1e-12));
-        let diag = DVec3::new(1.0, 1.0, 0.0).normalize();
-        assert!(f.axis.abs_diff_eq(diag, 1e-12), "{}", f.axis);
-        let (f, _) = path.at(1.5);
-        assert!((f.axis.angle_between(DVec3::X) - std::f64::consts::FRAC_PI_8).abs() < 1e-12);
-        let (before, spray_before) = path.at(0.0);
-        assert!(before.position == DVec3::ZERO && spray_before);
-        let (after, spray_after) = path.at(10.0);
-        assert!(after.axis.abs_diff_eq(DVec3::Y, 1e-12) && !spray_after);
-    }
-
-    #[test]
-    fn the_frame_is_orthonormal_and_rolls() {
-        let f = NozzleFrame::new(DVec3::ZERO, DVec3::new(1.0, 0.0, -1.0), 0.0);
-        assert!(f.width_axis.z.abs() < 1e-12, "width axis horizontal at zero roll");
-        let r = NozzleFrame::new(DVec3::ZERO, DVec3::new(1.0, 0.0, -1.0), std::f64::consts::FRAC_PI_2);
-        assert!(r.width_axis.abs_diff_eq(f.height_axis, 1e-12));
-        for g in [f, r, NozzleFrame::new(DVec3::ZERO, -DVec3::Z, 0.3)] {
-            assert!((g.axis.dot(g.width_axis)).abs() < 1e-12 && (g.axis.dot(g.height_axis)).abs() < 1e-12);
-            assert!((g.width_axis.cross(g.height_axis) - g.axis).length() < 1e-12);
-        }
-    }
-}
-
 /// Waypoints of a raster over `face` (see [`crate::scenario::RasterParams`]): passes from the
 /// bottom (horizontal) or the left (vertical), alternating direction, the nozzle at the standoff
 /// along the face's normal, spraying against it; a circular motion, if any, is sampled 36 times
@@ -196,4 +152,48 @@ pub fn raster_waypoints(face: &crate::collision::Face, r: &crate::scenario::Rast
     let (end, t_end) = (corners[corners.len() - 1].0, times[times.len() - 1]);
     out.push(Waypoint { time: t_end, position: end + circle(t_end), axis, spray: false });
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn waypoints_interpolate_position_linearly_and_axis_on_the_sphere() {
+        let path = NozzlePath::through(
+            vec![
+                Waypoint { time: 1.0, position: DVec3::ZERO, axis: DVec3::X, spray: true },
+                Waypoint {
+                    time: 3.0,
+                    position: DVec3::new(2.0, 0.0, 0.0),
+                    axis: DVec3::Y * 5.0,
+                    spray: false,
+                },
+            ],
+            0.0,
+        );
+        let (f, spray) = path.at(2.0);
+        assert!(spray);
+        assert!(f.position.abs_diff_eq(DVec3::new(1.0, 0.0, 0.0), 1e-12));
+        let diag = DVec3::new(1.0, 1.0, 0.0).normalize();
+        assert!(f.axis.abs_diff_eq(diag, 1e-12), "{}", f.axis);
+        let (f, _) = path.at(1.5);
+        assert!((f.axis.angle_between(DVec3::X) - std::f64::consts::FRAC_PI_8).abs() < 1e-12);
+        let (before, spray_before) = path.at(0.0);
+        assert!(before.position == DVec3::ZERO && spray_before);
+        let (after, spray_after) = path.at(10.0);
+        assert!(after.axis.abs_diff_eq(DVec3::Y, 1e-12) && !spray_after);
+    }
+
+    #[test]
+    fn the_frame_is_orthonormal_and_rolls() {
+        let f = NozzleFrame::new(DVec3::ZERO, DVec3::new(1.0, 0.0, -1.0), 0.0);
+        assert!(f.width_axis.z.abs() < 1e-12, "width axis horizontal at zero roll");
+        let r = NozzleFrame::new(DVec3::ZERO, DVec3::new(1.0, 0.0, -1.0), std::f64::consts::FRAC_PI_2);
+        assert!(r.width_axis.abs_diff_eq(f.height_axis, 1e-12));
+        for g in [f, r, NozzleFrame::new(DVec3::ZERO, -DVec3::Z, 0.3)] {
+            assert!((g.axis.dot(g.width_axis)).abs() < 1e-12 && (g.axis.dot(g.height_axis)).abs() < 1e-12);
+            assert!((g.width_axis.cross(g.height_axis) - g.axis).length() < 1e-12);
+        }
+    }
 }
