@@ -162,6 +162,8 @@ fn print_summary(m: &Metrics, wall: f64) {
     }
     let show = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2} %", 100.0 * v));
     println!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
+    let fell = m.failures.events.iter().fold(0.0, |acc, e| acc + e.volume);
+    println!("cohesive failures {}   fallen volume {fell:.3e} m³", m.failures.events.len());
     println!(
         "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}",
         "target", "hits", "mean [mm]", "max [mm]", "CV", "covered"

@@ -43,6 +43,7 @@ fn run_writes_every_output() {
         [
             "metrics.json",
             "scenario.resolved.toml",
+            "wall_failure.png",
             "wall_hits.npy",
             "wall_thickness.npy",
             "wall_thickness.png"

@@ -55,6 +55,27 @@ impl HeightField {
         self.rows
     }
 
+    /// Cell size `(along the width, along the height)`, m.
+    pub fn cell_size(&self) -> (f64, f64) {
+        (self.width / self.cols as f64, self.height / self.rows as f64)
+    }
+
+    /// Removes up to `volume` (m³) from `cell`; returns the volume removed.
+    pub fn remove(&mut self, cell: u32, volume: f64) -> f64 {
+        let area = self.cell_area();
+        let t = &mut self.thickness[cell as usize];
+        let take = (volume / area).min(*t);
+        *t -= take;
+        take * area
+    }
+
+    /// In-face coordinates `(along right, along up)` of a cell's centre, m from the face's centre.
+    pub fn cell_center(&self, cell: u32) -> (f64, f64) {
+        let (dx, dy) = self.cell_size();
+        let (row, col) = (cell as usize / self.cols, cell as usize % self.cols);
+        ((col as f64 + 0.5) * dx - self.width / 2.0, (row as f64 + 0.5) * dy - self.height / 2.0)
+    }
+
     /// Area of one cell, m².
     pub fn cell_area(&self) -> f64 {
         (self.width / self.cols as f64) * (self.height / self.rows as f64)

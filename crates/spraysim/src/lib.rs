@@ -13,6 +13,7 @@
 //! - [`collision`]: segment tests against planes, faces, disks, spheres, boxes, cylinders;
 //! - [`impact`]: stick or rebound, restitution, scatter;
 //! - [`heightfield`] and [`target`]: deposited layers and per-surface tallies;
+//! - [`cohesion`]: cohesive failure of the deposited layer;
 //! - [`pipeline`]: the [`Simulation`] and its stages;
 //! - [`metrics`] and [`io`]: results, files and heatmaps;
 //! - [`bench`]: the reference scene for performance measurements.
@@ -48,6 +49,7 @@
 //! ```
 
 pub mod bench;
+pub mod cohesion;
 pub mod collision;
 pub mod emitter;
 pub mod heightfield;

@@ -1,8 +1,9 @@
 //! Run metrics: where every emitted particle ended, and how the layers came out.
 
-use crate::scenario::{Role, Scenario};
-use crate::swarm::{Swarm, flags};
-use crate::target::{Amount, Obstacle, Target};
+use crate::Simulation;
+use crate::scenario::Role;
+use crate::swarm::flags;
+use crate::target::Amount;
 use serde::Serialize;
 
 /// Running totals kept by the pipeline.
@@ -18,6 +19,58 @@ pub struct Tally {
     pub substrate_first_impacts: Amount,
     /// Of those, the ones that rebounded from it.
     pub substrate_first_rebounds: Amount,
+    /// Particles released by cohesive failures.
+    pub released: Amount,
+    /// Released particles that left the domain.
+    pub released_left: Amount,
+    /// Released particles that expired.
+    pub released_expired: Amount,
+}
+
+/// One cohesive failure: a region of a layer that fell off.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FailureEvent {
+    /// Time of the analysis that found it, s.
+    pub time: f64,
+    /// Target it fell from.
+    pub target: String,
+    /// Cells in the region.
+    pub cells: usize,
+    /// Area of the region, m².
+    pub area: f64,
+    /// Volume that fell, m³.
+    pub volume: f64,
+}
+
+/// Cohesive failures and what became of the released material.
+#[derive(Clone, Debug, Serialize)]
+pub struct FailureMetrics {
+    /// Every failure, in time order.
+    pub events: Vec<FailureEvent>,
+    /// Particles released (one per failed cell) and their volume.
+    pub released: Amount,
+    /// Where the released particles are now.
+    pub released_fates: Fates,
+}
+
+/// Where the emitted volume is now, m³: `residual` is what the other terms miss (rounding of
+/// single-precision particle volumes only).
+#[derive(Clone, Debug, Serialize)]
+pub struct VolumeBalance {
+    /// Emitted by the nozzle.
+    pub emitted: f64,
+    /// In the targets' layers and on their backs.
+    pub on_targets: f64,
+    /// On obstacles.
+    pub on_obstacles: f64,
+    /// Left the domain.
+    pub left_domain: f64,
+    /// Expired.
+    pub expired: f64,
+    /// In flight (from the nozzle or released).
+    pub in_flight: f64,
+    /// `emitted` minus the rest.
+    pub residual: f64,
 }
 
 /// Where the emitted particles are: each in exactly one fate.
@@ -97,6 +150,14 @@ pub struct TargetMetrics {
     pub layer_volume: f64,
     /// Thickness statistics over the face.
     pub thickness: ThicknessStats,
+    /// Released material that landed here.
+    pub received: Amount,
+    /// Material that failed and fell off: released particles and volume.
+    pub detached: Amount,
+    /// Share of cells over-loaded but holding at the last cohesion analysis, 0..1.
+    pub at_risk_fraction: f64,
+    /// Share of cells that have failed, 0..1.
+    pub failed_fraction: f64,
 }
 
 /// Per-obstacle metrics.
@@ -108,6 +169,8 @@ pub struct ObstacleMetrics {
     pub hits: u64,
     /// Stuck on it.
     pub stuck: Amount,
+    /// Released material that landed on it.
+    pub received: Amount,
 }
 
 /// Everything `metrics.json` reports.
@@ -132,6 +195,10 @@ pub struct Metrics {
     pub targets: Vec<TargetMetrics>,
     /// Per obstacle, in scenario order.
     pub obstacles: Vec<ObstacleMetrics>,
+    /// Cohesive failures.
+    pub failures: FailureMetrics,
+    /// Where the emitted volume is.
+    pub volume_balance: VolumeBalance,
 }
 
 fn ratio(a: f64, b: f64) -> Option<f64> {
@@ -140,19 +207,14 @@ fn ratio(a: f64, b: f64) -> Option<f64> {
 
 impl Metrics {
     /// Gathers the metrics of a simulation's current state.
-    pub fn collect(
-        time: f64,
-        steps: u64,
-        tally: &Tally,
-        swarm: &Swarm,
-        targets: &[Target],
-        obstacles: &[Obstacle],
-        scenario: &Scenario,
-    ) -> Metrics {
-        let mut in_flight = Amount::default();
+    pub(crate) fn collect(sim: &Simulation, tally: &Tally, failures: &[FailureEvent]) -> Metrics {
+        let (targets, obstacles, scenario) = (sim.targets(), sim.obstacles(), sim.scenario());
+        let swarm = sim.swarm();
+        let (mut in_flight, mut released_in_flight) = (Amount::default(), Amount::default());
         for (f, v) in swarm.flags.iter().zip(&swarm.volume) {
             if f & flags::ALIVE != 0 {
-                in_flight.add(f64::from(*v));
+                let a = if f & flags::RELEASED != 0 { &mut released_in_flight } else { &mut in_flight };
+                a.add(f64::from(*v));
             }
         }
         let fates = Fates {
@@ -162,11 +224,35 @@ impl Metrics {
             expired: tally.expired,
             in_flight,
         };
+        let released_fates = Fates {
+            stuck_on_targets: targets.iter().map(|t| t.received).sum(),
+            stuck_on_obstacles: obstacles.iter().map(|o| o.received).sum(),
+            left_domain: tally.released_left,
+            expired: tally.released_expired,
+            in_flight: released_in_flight,
+        };
         let on_substrate: f64 =
-            targets.iter().filter(|t| t.role == Role::Substrate).map(|t| t.stuck.volume).sum();
+            targets.iter().filter(|t| t.role == Role::Substrate).map(|t| t.field.volume()).sum();
+        let on_targets: f64 =
+            targets.iter().map(|t| t.field.volume() + t.stuck_back.volume + t.received_back).sum();
+        let balance = VolumeBalance {
+            emitted: tally.emitted.volume,
+            on_targets,
+            on_obstacles: fates.stuck_on_obstacles.volume + released_fates.stuck_on_obstacles.volume,
+            left_domain: fates.left_domain.volume + released_fates.left_domain.volume,
+            expired: fates.expired.volume + released_fates.expired.volume,
+            in_flight: fates.in_flight.volume + released_fates.in_flight.volume,
+            residual: 0.0,
+        };
+        let residual = balance.emitted
+            - (balance.on_targets
+                + balance.on_obstacles
+                + balance.left_domain
+                + balance.expired
+                + balance.in_flight);
         Metrics {
-            time,
-            steps,
+            time: sim.time(),
+            steps: sim.steps_done(),
             emitted: tally.emitted,
             emitted_mass: tally.emitted.volume * scenario.process.density,
             rebound_ratio: ratio(tally.substrate_first_rebounds.volume, tally.substrate_first_impacts.volume),
@@ -174,20 +260,38 @@ impl Metrics {
             fates,
             targets: targets
                 .iter()
-                .map(|t| TargetMetrics {
-                    name: t.name.clone(),
-                    role: t.role,
-                    hits: t.hits,
-                    stuck: t.stuck,
-                    stuck_on_back: t.stuck_back,
-                    layer_volume: t.field.volume(),
-                    thickness: ThicknessStats::of(t.field.thickness(), scenario.process.coverage_threshold),
+                .map(|t| {
+                    let cells = t.failure_mask.len().max(1) as f64;
+                    let share = |m: u8| t.failure_mask.iter().filter(|&&x| x == m).count() as f64 / cells;
+                    TargetMetrics {
+                        name: t.name.clone(),
+                        role: t.role,
+                        hits: t.hits,
+                        stuck: t.stuck,
+                        stuck_on_back: t.stuck_back,
+                        layer_volume: t.field.volume(),
+                        thickness: ThicknessStats::of(
+                            t.field.thickness(),
+                            scenario.process.coverage_threshold,
+                        ),
+                        received: t.received,
+                        detached: t.detached,
+                        at_risk_fraction: share(1),
+                        failed_fraction: share(2),
+                    }
                 })
                 .collect(),
             obstacles: obstacles
                 .iter()
-                .map(|o| ObstacleMetrics { name: o.name.clone(), hits: o.hits, stuck: o.stuck })
+                .map(|o| ObstacleMetrics {
+                    name: o.name.clone(),
+                    hits: o.hits,
+                    stuck: o.stuck,
+                    received: o.received,
+                })
                 .collect(),
+            failures: FailureMetrics { events: failures.to_vec(), released: tally.released, released_fates },
+            volume_balance: VolumeBalance { residual, ..balance },
         }
     }
 }

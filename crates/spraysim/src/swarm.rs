@@ -9,6 +9,8 @@ pub mod flags {
     pub const ALIVE: u8 = 1;
     /// It has struck a substrate target at least once.
     pub const HIT_SUBSTRATE: u8 = 2;
+    /// It is material released by a cohesive failure, not a particle from the nozzle.
+    pub const RELEASED: u8 = 4;
 }
 
 /// All particles of a run: in flight, or retired and waiting for compaction.
@@ -51,13 +53,18 @@ impl Swarm {
 
     /// Adds a particle in flight.
     pub fn push(&mut self, pos: DVec3, vel: DVec3, volume: f32, id: u32) {
+        self.push_with_flags(pos, vel, volume, id, flags::ALIVE);
+    }
+
+    /// Adds a particle with the given status bits.
+    pub fn push_with_flags(&mut self, pos: DVec3, vel: DVec3, volume: f32, id: u32, bits: u8) {
         self.pos.push(pos);
         self.vel.push(vel);
         self.age.push(0.0);
         self.volume.push(volume);
         self.id.push(id);
         self.impacts.push(0);
-        self.flags.push(flags::ALIVE);
+        self.flags.push(bits);
     }
 
     /// Drops retired particles, keeping the others in order (so processing order, and with it

@@ -53,6 +53,14 @@ pub struct Target {
     pub stuck: Amount,
     /// Particles stuck on the back, which has no heightfield.
     pub stuck_back: Amount,
+    /// Material released by cohesive failures that landed here (front or back).
+    pub received: Amount,
+    /// Of that, the volume on the back, m³.
+    pub received_back: f64,
+    /// Material that failed and fell off: released particles and their volume.
+    pub detached: Amount,
+    /// Per cell: 0 sound, 1 over-loaded at the last analysis, 2 failed at some time.
+    pub failure_mask: Vec<u8>,
 }
 
 /// An obstacle and what has struck it.
@@ -64,4 +72,6 @@ pub struct Obstacle {
     pub hits: u64,
     /// Particles stuck on it.
     pub stuck: Amount,
+    /// Released material that landed on it.
+    pub received: Amount,
 }

@@ -20,6 +20,8 @@ pub struct Grid<'a> {
     pub cols: usize,
     /// Rows.
     pub rows: usize,
+    /// Optional per-cell marks drawn over the colours: 1 at risk (orange), 2 failed (red).
+    pub marks: Option<&'a [u8]>,
 }
 
 /// How to label the colour scale.
@@ -126,14 +128,23 @@ pub fn render(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap) -> Rgb
     let (x0, y0) = (margin, margin + 2 * title_h);
     for by in 0..rows.div_ceil(down) {
         for bx in 0..cols.div_ceil(down) {
-            let (mut sum, mut n) = (0.0, 0.0);
+            let (mut sum, mut n, mut mark) = (0.0, 0.0, 0u8);
             for r in by * down..((by + 1) * down).min(rows) {
                 for c in bx * down..((bx + 1) * down).min(cols) {
                     sum += grid.values[r * cols + c];
                     n += 1.0;
+                    mark = mark.max(grid.marks.map_or(0, |m| m[r * cols + c]));
                 }
             }
-            let px = color(map, sum / n * scale.factor / top);
+            let base = color(map, sum / n * scale.factor / top);
+            // Marks are blended over the colour, so the thickness still reads through.
+            let px = match mark {
+                0 => base,
+                m => {
+                    let tint = if m == 1 { [255u16, 150, 0] } else { [220, 0, 0] };
+                    Rgb(std::array::from_fn(|k| ((u16::from(base.0[k]) + 3 * tint[k]) / 4) as u8))
+                }
+            };
             let img_row = rows.div_ceil(down) - 1 - by;
             for dy in 0..up {
                 for dx in 0..up {

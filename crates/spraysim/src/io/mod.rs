@@ -105,14 +105,16 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
         }
         if sc.output.images {
             let max = t.field.thickness().iter().copied().fold(0.0, f64::max);
-            let grid = heatmap::Grid { values: t.field.thickness(), cols, rows };
-            let img = heatmap::render(
-                &grid,
-                &format!("{}: thickness", t.name),
-                &heatmap::Scale::thickness(max),
-                sc.output.colormap,
-            );
+            let scale = heatmap::Scale::thickness(max);
+            let grid = heatmap::Grid { values: t.field.thickness(), cols, rows, marks: None };
+            let img = heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, sc.output.colormap);
             put(format!("{}_thickness.png", t.name), &png_bytes(&img, staging)?)?;
+            if sc.process.cohesion.interval > 0.0 {
+                let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
+                let title = format!("{}: failed (red), at risk (orange)", t.name);
+                let img = heatmap::render(&grid, &title, &scale, sc.output.colormap);
+                put(format!("{}_failure.png", t.name), &png_bytes(&img, staging)?)?;
+            }
         }
     }
     Ok(names)

@@ -13,18 +13,24 @@
 mod setup;
 mod update;
 
+use crate::cohesion::{self, Strength};
 use crate::collision::{Aabb, Scene, SurfaceKind};
 use crate::emitter::Emitter;
 use crate::impact::ImpactModel;
 use crate::integrator::Motion;
-use crate::metrics::{Metrics, Tally};
+use crate::metrics::{FailureEvent, Metrics, Tally};
 use crate::nozzle::NozzlePath;
 use crate::rng::StreamKey;
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{Swarm, flags};
 use crate::target::{Obstacle, Target};
+use glam::DVec3;
 use rayon::prelude::*;
 use update::{SwarmChunk, UpdateContext, record};
+
+/// Distance in front of the face at which failed material is released, m: clear of the face
+/// for any straight or curved flight test.
+const RELEASE_OFFSET: f64 = 1e-6;
 
 /// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
 /// the order in which records are applied, never depends on the thread count.
@@ -82,6 +88,9 @@ pub struct Simulation {
     key: StreamKey,
     next_id: u64,
     particle_steps: u64,
+    /// Steps between cohesion analyses (0: off).
+    cohesion_every: u64,
+    failures: Vec<FailureEvent>,
     pool: Option<rayon::ThreadPool>,
 }
 
@@ -163,15 +172,7 @@ impl Simulation {
 
     /// The metrics as of now.
     pub fn metrics(&self) -> Metrics {
-        Metrics::collect(
-            self.time(),
-            self.step,
-            &self.tally,
-            &self.swarm,
-            &self.targets,
-            &self.obstacles,
-            &self.scenario,
-        )
+        Metrics::collect(self, &self.tally, &self.failures)
     }
 
     /// Runs steps until the duration is reached, calling `progress` after each.
@@ -187,6 +188,9 @@ impl Simulation {
         self.emit();
         let outcomes = self.update();
         self.apply(outcomes);
+        if self.cohesion_every > 0 && (self.step + 1) % self.cohesion_every == 0 {
+            self.cohesion();
+        }
         if self.retired > CHUNK && self.retired * 4 > self.swarm.len() {
             self.swarm.compact();
             self.retired = 0;
@@ -220,6 +224,54 @@ impl Simulation {
             self.tally.emitted.add(f64::from(volume));
         }
         self.next_id += n;
+    }
+
+    /// Cohesion stage: analyses every target's layer; failing regions leave the heightfield
+    /// and fall as particles, one per cell carrying that cell's volume, released just in front
+    /// of the face at rest (in target, region and cell order, so deterministically).
+    fn cohesion(&mut self) {
+        let c = &self.scenario.process.cohesion;
+        let strength =
+            Strength { tensile: c.tensile_strength, shear: c.shear_strength, cohesion: c.cohesion };
+        let density = self.scenario.process.density;
+        let time = self.time() + self.scenario.simulation.dt;
+        for t in &mut self.targets {
+            let analysis =
+                cohesion::analyse(&t.field, t.face.normal, density, self.motion.gravity, &strength);
+            t.failure_mask.iter_mut().filter(|m| **m == 1).for_each(|m| *m = 0);
+            for region in &analysis.regions {
+                if !region.fails() {
+                    for &cell in &region.cells {
+                        let m = &mut t.failure_mask[cell as usize];
+                        *m = (*m).max(1);
+                    }
+                    continue;
+                }
+                let mut volume = 0.0;
+                for &cell in &region.cells {
+                    let removed = t.field.remove(cell, f64::INFINITY);
+                    t.failure_mask[cell as usize] = 2;
+                    let (u, v) = t.field.cell_center(cell);
+                    let pos =
+                        t.face.center + t.face.right * u + t.face.up * v + t.face.normal * RELEASE_OFFSET;
+                    // Released material never counts towards the rebound ratio.
+                    let bits = flags::ALIVE | flags::RELEASED | flags::HIT_SUBSTRATE;
+                    self.swarm.push_with_flags(pos, DVec3::ZERO, removed as f32, self.next_id as u32, bits);
+                    self.next_id += 1;
+                    self.tally.released.add(f64::from(removed as f32));
+                    t.detached.add(removed);
+                    volume += removed;
+                }
+                let area = region.cells.len() as f64 * t.field.cell_area();
+                self.failures.push(FailureEvent {
+                    time,
+                    target: t.name.clone(),
+                    cells: region.cells.len(),
+                    area,
+                    volume,
+                });
+            }
+        }
     }
 
     fn update(&mut self) -> Vec<update::ChunkOutcome> {
@@ -267,19 +319,28 @@ impl Simulation {
             for rec in &out.impacts {
                 let volume = f64::from(rec.volume);
                 let stuck = rec.flags & record::STUCK != 0;
+                let released = rec.flags & record::RELEASED != 0;
+                let back = rec.flags & record::BACK != 0;
                 match self.scene.surfaces()[rec.surface as usize].kind {
                     SurfaceKind::Target(i) => {
                         let t = &mut self.targets[i];
                         t.hits += 1;
-                        if rec.flags & record::BACK != 0 {
-                            if stuck {
-                                t.stuck_back.add(volume);
-                            }
-                        } else {
+                        if !back {
                             t.field.add_hit(rec.cell);
-                            if stuck {
+                        }
+                        if stuck {
+                            if !back {
                                 t.field.deposit(rec.cell, volume);
-                                t.stuck.add(volume);
+                            }
+                            match (released, back) {
+                                (true, _) => {
+                                    t.received.add(volume);
+                                    if back {
+                                        t.received_back += volume;
+                                    }
+                                }
+                                (false, true) => t.stuck_back.add(volume),
+                                (false, false) => t.stuck.add(volume),
                             }
                         }
                     }
@@ -287,7 +348,7 @@ impl Simulation {
                         let o = &mut self.obstacles[i];
                         o.hits += 1;
                         if stuck {
-                            o.stuck.add(volume);
+                            if released { &mut o.received } else { &mut o.stuck }.add(volume);
                         }
                     }
                 }
@@ -298,8 +359,11 @@ impl Simulation {
                     }
                 }
             }
-            self.tally.left_domain = self.tally.left_domain + out.left_domain;
-            self.tally.expired = self.tally.expired + out.expired;
+            let t = &mut self.tally;
+            t.left_domain = t.left_domain + out.left_domain;
+            t.expired = t.expired + out.expired;
+            t.released_left = t.released_left + out.released_left;
+            t.released_expired = t.released_expired + out.released_expired;
             self.retired += out.retired;
         }
         debug_assert_eq!(self.retired, self.swarm.flags.iter().filter(|&&f| f & flags::ALIVE == 0).count());

@@ -46,6 +46,10 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             hits: 0,
             stuck: Amount::default(),
             stuck_back: Amount::default(),
+            received: Amount::default(),
+            received_back: 0.0,
+            detached: Amount::default(),
+            failure_mask: vec![0; cols * rows],
         });
         surfaces.push(SurfaceRef {
             shape: Shape::Face(face),
@@ -60,7 +64,12 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             kind: SurfaceKind::Obstacle(i),
             impact: model_for(&o.impact),
         });
-        obstacles.push(Obstacle { name: o.name.clone(), hits: 0, stuck: Amount::default() });
+        obstacles.push(Obstacle {
+            name: o.name.clone(),
+            hits: 0,
+            stuck: Amount::default(),
+            received: Amount::default(),
+        });
     }
 
     let e = &sc.emitter;
@@ -130,6 +139,12 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         key: StreamKey::new(s.seed),
         next_id: 0,
         particle_steps: 0,
+        cohesion_every: if sc.process.cohesion.interval > 0.0 {
+            (sc.process.cohesion.interval / s.dt).round().max(1.0) as u64
+        } else {
+            0
+        },
+        failures: Vec::new(),
         pool: None,
     }
 }

@@ -20,6 +20,8 @@ pub(crate) mod record {
     pub const FIRST_SUBSTRATE: u8 = 2;
     /// The impact was on the back of a target.
     pub const BACK: u8 = 4;
+    /// The particle is released material (see [`crate::swarm::flags::RELEASED`]).
+    pub const RELEASED: u8 = 8;
 }
 
 /// One impact, to be applied to shared state in particle order.
@@ -37,6 +39,10 @@ pub(crate) struct ChunkOutcome {
     pub impacts: Vec<ImpactRecord>,
     pub left_domain: Amount,
     pub expired: Amount,
+    /// Released material that left the domain.
+    pub released_left: Amount,
+    /// Released material that expired.
+    pub released_expired: Amount,
     pub retired: usize,
 }
 
@@ -101,13 +107,14 @@ impl UpdateContext<'_> {
         };
         let stuck = self.advance(&mut p, &mut out.impacts);
         let volume = f64::from(p.volume);
+        let released = p.flags & flags::RELEASED != 0;
         if !stuck {
             if !self.domain.contains(p.pos) {
                 p.flags &= !flags::ALIVE;
-                out.left_domain.add(volume);
+                if released { &mut out.released_left } else { &mut out.left_domain }.add(volume);
             } else if age > self.max_lifetime || p.impacts == u16::MAX {
                 p.flags &= !flags::ALIVE;
-                out.expired.add(volume);
+                if released { &mut out.released_expired } else { &mut out.expired }.add(volume);
             }
         }
         if p.flags & flags::ALIVE == 0 {
@@ -169,6 +176,9 @@ impl UpdateContext<'_> {
             let surface = &self.scene.surfaces()[s];
             let outcome = self.models[surface.impact].resolve(v_in, hit.normal, &mut rng);
             let mut rec = ImpactRecord { surface: s as u32, cell: u32::MAX, volume: p.volume, flags: 0 };
+            if p.flags & flags::RELEASED != 0 {
+                rec.flags |= record::RELEASED;
+            }
             if let SurfaceKind::Target(t) = surface.kind {
                 let target = &self.targets[t];
                 if hit.normal.dot(target.face.normal) > 0.0 {

@@ -84,6 +84,7 @@ impl ScenarioFile {
         process.max_lifetime = p.max_lifetime.unwrap_or(process.max_lifetime);
         process.coverage_threshold = p.coverage_threshold.unwrap_or(process.coverage_threshold);
         process.impact.apply(&p.impact);
+        process.cohesion.apply(&p.cohesion);
         let mut emitter = preset.emitter();
         emitter.apply(&self.emitter);
         let domain =

@@ -180,6 +180,20 @@ overridable! {
     }
 }
 
+overridable! {
+    /// `[process.cohesion]`: cohesive failure of the deposited layer (see [`crate::cohesion`]).
+    pub struct CohesionParams / CohesionOverride {
+        /// Time between analyses, s; 0 switches failure off.
+        pub interval: f64,
+        /// Adhesive tensile (pull-off) strength of the fresh layer on the substrate, Pa.
+        pub tensile_strength: f64,
+        /// Adhesive shear strength of the fresh layer on the substrate, Pa.
+        pub shear_strength: f64,
+        /// Cohesion of the layer holding an over-loaded region along its boundary, Pa.
+        pub cohesion: f64,
+    }
+}
+
 /// `[process]`: the material and its flight.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -198,6 +212,8 @@ pub struct ProcessParams {
     pub coverage_threshold: f64,
     /// Impact parameters of every surface that does not override them.
     pub impact: ImpactParams,
+    /// Cohesive failure of deposited layers.
+    pub cohesion: CohesionParams,
 }
 
 /// `[process]` as a file gives it: every key optional.
@@ -219,6 +235,9 @@ pub struct ProcessOverride {
     /// See [`ProcessParams::impact`].
     #[serde(default)]
     pub impact: ImpactOverride,
+    /// See [`ProcessParams::cohesion`].
+    #[serde(default)]
+    pub cohesion: CohesionOverride,
 }
 
 overridable! {

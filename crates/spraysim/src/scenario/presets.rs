@@ -3,7 +3,7 @@
 //! Where Table 1 gives a range, the default sits inside it; the comment beside each number says
 //! where it comes from. Every value can be overridden in a scenario.
 
-use super::params::{EmitterParams, ImpactParams, Preset, ProcessParams, ReboundModel};
+use super::params::{CohesionParams, EmitterParams, ImpactParams, Preset, ProcessParams, ReboundModel};
 use crate::emitter::{ApertureShape, DirectionKind};
 
 /// Default p_r(θ) coefficients in x = θ/90°: p_r = 0.10 + 2.4 x³. Passes through the public
@@ -11,6 +11,11 @@ use crate::emitter::{ApertureShape, DirectionKind};
 /// 20° (vendors: 5–12 % with the nozzle square to the surface), 40 % at 45° (vendors: 30–50 %
 /// once the nozzle is more than 20° off square), and saturates at 1 beyond about 62°.
 pub const SHOTCRETE_REBOUND_POLYNOMIAL: [f64; 4] = [0.10, 0.0, 0.0, 2.4];
+
+/// Failure switched off; strengths kept at the shotcrete values so that switching it on by
+/// `interval` alone gives sensible numbers.
+const COHESION_OFF: CohesionParams =
+    CohesionParams { interval: 0.0, tensile_strength: 1500.0, shear_strength: 5000.0, cohesion: 2000.0 };
 
 impl Preset {
     /// The `[process]` defaults of this preset.
@@ -32,6 +37,14 @@ impl Preset {
                     rest_speed: 0.5,    // m/s; slower rebounds stay put
                     rest_max_slope: 45.0,
                 },
+                // Fresh wet-mix shotcrete builds about 50–100 mm overhead and 200–300 mm on a
+                // wall in one pass: ρ g t at those thicknesses sets the adhesive strengths.
+                cohesion: CohesionParams {
+                    interval: 0.5,
+                    tensile_strength: 1500.0, // Pa: fails overhead beyond ρ g t ≈ 66 mm
+                    shear_strength: 5000.0,   // Pa: slides off a wall beyond ≈ 222 mm
+                    cohesion: 2000.0,         // Pa: yield stress of a fresh wet mix
+                },
             },
             Preset::Painting => ProcessParams {
                 preset: self,
@@ -49,6 +62,8 @@ impl Preset {
                     rest_speed: 0.0,
                     rest_max_slope: 45.0,
                 },
+                // Table 1: no cohesive failure (sagging is a separate model).
+                cohesion: CohesionParams { interval: 0.0, ..COHESION_OFF },
             },
             Preset::Blasting => ProcessParams {
                 preset: self,
@@ -66,6 +81,8 @@ impl Preset {
                     rest_speed: 0.5,     // grains come to rest on the floor
                     rest_max_slope: 45.0,
                 },
+                // Table 1: no cohesive failure.
+                cohesion: CohesionParams { interval: 0.0, ..COHESION_OFF },
             },
         }
     }
@@ -132,6 +149,10 @@ const UNITS: &[(&str, &str)] = &[
     ("scatter_angle", "degrees, half-angle about the specular direction"),
     ("rest_speed", "m/s"),
     ("rest_max_slope", "degrees from +z"),
+    ("interval", "s between failure analyses, 0 = off"),
+    ("tensile_strength", "Pa, adhesive pull-off strength"),
+    ("shear_strength", "Pa, adhesive shear strength"),
+    ("cohesion", "Pa, holds a region along its boundary"),
     ("shape", "point | circle | rectangle | annulus"),
     ("diameter", "m, circle"),
     ("width", "m, rectangle"),

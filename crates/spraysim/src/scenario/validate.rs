@@ -281,6 +281,11 @@ fn check_process(p: &ProcessParams) -> Check {
     range("process.drag", p.drag, 0.0, 1e3, "1/m")?;
     positive("process.max_lifetime", p.max_lifetime, 1e6, "s")?;
     range("process.coverage_threshold", p.coverage_threshold, 0.0, 10.0, "m")?;
+    let c = &p.cohesion;
+    range("process.cohesion.interval", c.interval, 0.0, 1e6, "s")?;
+    positive("process.cohesion.tensile_strength", c.tensile_strength, 1e9, "Pa")?;
+    positive("process.cohesion.shear_strength", c.shear_strength, 1e9, "Pa")?;
+    range("process.cohesion.cohesion", c.cohesion, 0.0, 1e9, "Pa")?;
     check_impact("process.impact", &p.impact)
 }
 

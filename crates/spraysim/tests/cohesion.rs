@@ -1,0 +1,179 @@
+//! Cohesive failure against its analytic thresholds, and mass conservation through failure.
+
+use glam::DVec3;
+use spraysim::cohesion::{Strength, analyse};
+use spraysim::heightfield::HeightField;
+use spraysim::{Scenario, Simulation};
+
+const RHO: f64 = 2300.0;
+const G: DVec3 = DVec3::new(0.0, 0.0, -9.81);
+const S: Strength = Strength { tensile: 1500.0, shear: 5000.0, cohesion: 2000.0 };
+
+fn uniform(t: f64) -> HeightField {
+    let mut f = HeightField::new(1.0, 1.0, 40, 40, 0.0);
+    for c in 0..1600 {
+        f.deposit(c, t * f.cell_area());
+    }
+    f
+}
+
+fn fails(t: f64, normal: DVec3) -> bool {
+    analyse(&uniform(t), normal, RHO, G, &S).regions.iter().any(|r| r.fails())
+}
+
+#[test]
+fn uniform_layers_fail_at_the_analytic_thicknesses() {
+    let ceiling = S.tensile / (RHO * 9.81);
+    let wall = S.shear / (RHO * 9.81);
+    assert!(!fails(ceiling * 0.999, -DVec3::Z) && fails(ceiling * 1.001, -DVec3::Z));
+    assert!(!fails(wall * 0.999, -DVec3::X) && fails(wall * 1.001, -DVec3::X));
+    assert!(!fails(10.0, DVec3::Z), "a floor never fails");
+    // A ceiling fails at a thinner layer than a wall.
+    assert!(ceiling < wall);
+    // A face tilted 45° (an overhang) fails on the worse of pull-off and shear.
+    let n = DVec3::new(-1.0, 0.0, -1.0).normalize();
+    let tilted = (S.tensile / (RHO * 9.81 * 0.5f64.sqrt())).min(S.shear / (RHO * 9.81 * 0.5f64.sqrt()));
+    assert!(!fails(tilted * 0.999, n) && fails(tilted * 1.001, n));
+}
+
+#[test]
+fn small_patches_hang_on_and_large_ones_fall() {
+    // A thick square patch on a thin, intact ceiling layer.
+    let patch = |side: usize| {
+        let mut f = HeightField::new(2.0, 2.0, 100, 100, 0.0);
+        for c in 0..10_000u32 {
+            let (r, col) = (c as usize / 100, c as usize % 100);
+            let t = if r < side && col < side { 0.2 } else { 0.01 };
+            f.deposit(c, t * f.cell_area());
+        }
+        analyse(&f, -DVec3::Z, RHO, G, &S)
+    };
+    let small = patch(3);
+    assert_eq!(small.regions.len(), 1);
+    assert!(!small.regions[0].fails(), "a 6 cm patch is held by its rim");
+    let large = patch(40);
+    assert!(large.regions[0].fails(), "an 80 cm patch falls");
+    assert_eq!(large.regions[0].cells.len(), 1600);
+}
+
+/// A face of 0.5 m × 0.5 m sprayed evenly to its edges (a 0.7 m × 0.7 m rectangular emitter
+/// 0.2 m in front of it, so that about half of `flow` lands on the face) with a collector floor
+/// below, analysed every `interval` s.
+fn sprayed(
+    normal: [f64; 3],
+    up: [f64; 3],
+    center: [f64; 3],
+    flow: f64,
+    duration: f64,
+    interval: f64,
+) -> Simulation {
+    let n = DVec3::from_array(normal);
+    let nozzle = DVec3::from_array(center) + n * 0.2;
+    let text = format!(
+        r#"
+        [simulation]
+        duration = {duration}
+        [process]
+        preset = "shotcrete"
+        flow_rate = {flow}
+        [process.impact]
+        rebound_model = "never"
+        # Weak cohesion: the few cells that particle noise keeps under the threshold must not
+        # hold the whole layer, so that the test measures the adhesive thresholds.
+        [process.cohesion]
+        interval = {interval}
+        cohesion = 20.0
+        [emitter]
+        shape = "rectangle"
+        width = 0.7
+        height = 0.7
+        cone_angle = 0.0
+        spawn_rate = 100000.0
+        speed = [10.0, 10.0]
+        [nozzle]
+        position = {nozzle:?}
+        axis = {axis:?}
+        roll = {roll}
+        [[target]]
+        name = "face"
+        center = {center:?}
+        normal = {normal:?}
+        up = {up:?}
+        size = [0.5, 0.5]
+        resolution = [50, 50]
+        splat_radius = 0.02
+        [[target]]
+        name = "floor"
+        role = "collector"
+        center = [0.0, 0.0, -1.0]
+        normal = [0.0, 0.0, 1.0]
+        up = [1.0, 0.0, 0.0]
+        size = [4.0, 4.0]
+        resolution = [40, 40]
+        [domain]
+        min = [-3.0, -3.0, -2.0]
+        max = [3.0, 3.0, 3.0]
+        "#,
+        nozzle = nozzle.to_array(),
+        axis = (-n).to_array(),
+        roll = 0.0,
+    );
+    let sc = Scenario::from_toml(&text, "sprayed").unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = Simulation::new(&sc).expect("valid");
+    sim.run(|_| {});
+    sim
+}
+
+/// Build-up rate of the layer on the face, m/s: the face catches (0.5/0.7)² of the flow.
+fn build_up(flow: f64) -> f64 {
+    flow * (0.5f64 / 0.7).powi(2) / 0.25
+}
+
+fn assert_balanced(sim: &Simulation) {
+    let b = sim.metrics().volume_balance;
+    assert!(b.residual.abs() <= 1e-6 * b.emitted, "{b:?}");
+}
+
+#[test]
+fn a_sprayed_ceiling_fails_near_the_pull_off_thickness_and_conserves_mass() {
+    let (flow, interval) = (4.9e-3, 0.1); // 10 mm/s on the face: 1 mm per analysis
+    let sim = sprayed([0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], flow, 9.0, interval);
+    let m = sim.metrics();
+    assert_balanced(&sim);
+    let first = m.failures.events.first().expect("the ceiling must fail");
+    let critical = 1500.0 / (RHO * 9.81);
+    // The face's mean thickness when it failed.
+    let at_failure = build_up(flow) * first.time;
+    // Within one interval's build-up plus the layer's particle noise (a few per cent).
+    let tol = build_up(flow) * interval + 0.03 * critical;
+    assert!((at_failure - critical).abs() < tol, "failed at {at_failure} m, analytic {critical} m");
+    assert!(first.area > 0.1, "a large region falls: {first:?}");
+    // The fallen material lands on the floor.
+    let floor = &m.targets[1];
+    assert!(floor.received.volume > 0.9 * first.volume, "{:?}", floor.received);
+    assert_eq!(m.failures.released.count, m.targets[0].detached.count);
+}
+
+#[test]
+fn a_sprayed_wall_fails_near_the_shear_thickness_and_a_floor_never() {
+    let (flow, interval) = (2e-2, 0.05); // 40 mm/s on the face: 2 mm per analysis
+    let sim = sprayed([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], flow, 7.0, interval);
+    let m = sim.metrics();
+    assert_balanced(&sim);
+    let first = m.failures.events.first().expect("the wall must fail");
+    let critical = 5000.0 / (RHO * 9.81);
+    let at_failure = build_up(flow) * first.time;
+    let tol = build_up(flow) * interval + 0.03 * critical;
+    assert!(
+        (at_failure - critical).abs() < tol,
+        "failed at {at_failure} m ({first:?}), analytic {critical} m"
+    );
+    let floor = sprayed([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], flow, 7.0, interval);
+    let fm = floor.metrics();
+    assert!(fm.failures.events.is_empty(), "a floor failed: {:?}", fm.failures.events.first());
+    assert!(
+        fm.targets[0].thickness.mean > 0.5 * 2.0 * critical,
+        "the floor layer grew past the wall's limit"
+    );
+    assert_balanced(&floor);
+}
