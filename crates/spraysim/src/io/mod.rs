@@ -109,6 +109,14 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
             let grid = heatmap::Grid { values: t.field.thickness(), cols, rows, marks: None };
             let img = heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, sc.output.colormap);
             put(format!("{}_thickness.png", t.name), &png_bytes(&img, staging)?)?;
+            // Impacts per cm², the map a blasting jet leaves.
+            let per_cm2 = 1.0 / (t.field.cell_area() * 1e4);
+            let hits: Vec<f64> = t.field.hits().iter().map(|&h| f64::from(h) * per_cm2).collect();
+            let grid_hits = heatmap::Grid { values: &hits, cols, rows, marks: None };
+            let scale_hits = heatmap::Scale::count("impacts [1/cm²]");
+            let img =
+                heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, sc.output.colormap);
+            put(format!("{}_hits.png", t.name), &png_bytes(&img, staging)?)?;
             if sc.process.cohesion.interval > 0.0 {
                 let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
                 let title = format!("{}: failed (red), at risk (orange)", t.name);

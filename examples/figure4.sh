@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Runs the four Figure-4 scenes (same raster, four process set-ups) and copies their wall
+# heatmaps to docs/images/figure4/, where the README shows them side by side.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+mkdir -p docs/images/figure4
+for scene in figure4a_shotcrete_rebar figure4b_shotcrete figure4c_painting figure4d_blasting; do
+    ./target/release/spraysim run "examples/$scene.toml" -o "out/$scene" -q
+    cp "out/$scene/wall_thickness.png" "docs/images/figure4/${scene}_thickness.png"
+    cp "out/$scene/wall_hits.png" "docs/images/figure4/${scene}_hits.png"
+    python3 - "out/$scene/metrics.json" "$scene" <<'PY' 2>/dev/null || true
+import json, sys
+m = json.load(open(sys.argv[1]))
+w = m["targets"][0]
+pct = lambda x: "n/a" if x is None else f"{100 * x:.1f} %"
+print(f"{sys.argv[2]}: transfer efficiency {pct(m['transfer_efficiency'])}, rebound ratio {pct(m['rebound_ratio'])}, "
+      f"wall mean {1e3 * w['thickness']['mean']:.2f} mm, hits {w['hits']}, failures {len(m['failures']['events'])}")
+PY
+done
