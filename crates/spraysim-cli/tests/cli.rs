@@ -45,6 +45,7 @@ fn run_writes_every_output() {
             "scenario.resolved.toml",
             "wall_failure.png",
             "wall_hits.npy",
+            "wall_hits.png",
             "wall_thickness.npy",
             "wall_thickness.png"
         ]
