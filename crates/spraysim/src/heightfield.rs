@@ -1,5 +1,8 @@
 //! The layer deposited on a target face, as a grid of thicknesses.
 
+use crate::collision::Face;
+use glam::DVec3;
+
 /// A regular grid over a target face recording deposited thickness and impact counts.
 ///
 /// Row index grows along the face's `up`, column index along its `right` (`up × normal`, the
@@ -13,8 +16,13 @@ pub struct HeightField {
     height: f64,
     thickness: Vec<f64>,
     hits: Vec<u32>,
+    /// Upper bound of the thickness, m (never lowered by removals).
+    max_thickness: f64,
     /// Cell offsets `(col, row)` of the deposit footprint.
     splat: Vec<(isize, isize)>,
+    /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
+    /// layer's slope is measured (finer, the slope would be the deposit's speckle).
+    reach: (usize, usize),
 }
 
 impl HeightField {
@@ -41,6 +49,8 @@ impl HeightField {
             height,
             thickness: vec![0.0; cols * rows],
             hits: vec![0; cols * rows],
+            max_thickness: 0.0,
+            reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
         }
     }
@@ -118,8 +128,86 @@ impl HeightField {
         let n = self.splat.iter().filter(in_grid).count();
         let added = volume / (n as f64 * self.cell_area());
         for &(i, j) in self.splat.iter().filter(in_grid) {
-            self.thickness[((row + j) * cols + col + i) as usize] += added;
+            let t = &mut self.thickness[((row + j) * cols + col + i) as usize];
+            *t += added;
+            self.max_thickness = self.max_thickness.max(*t);
         }
+    }
+
+    /// An upper bound of every cell's thickness, m.
+    pub fn max_thickness(&self) -> f64 {
+        self.max_thickness
+    }
+
+    /// Thickness gradient `(∂t/∂u, ∂t/∂v)` at a cell, dimensionless: central differences
+    /// across the deposit footprint (one-sided at the edges).
+    pub fn gradient(&self, cell: u32) -> (f64, f64) {
+        let (dx, dy) = self.cell_size();
+        let (row, col) = (cell as usize / self.cols, cell as usize % self.cols);
+        let at = |r: usize, c: usize| self.thickness[r * self.cols + c];
+        let (c0, c1) = (col.saturating_sub(self.reach.0), (col + self.reach.0).min(self.cols - 1));
+        let (r0, r1) = (row.saturating_sub(self.reach.1), (row + self.reach.1).min(self.rows - 1));
+        let gu = if c1 > c0 { (at(row, c1) - at(row, c0)) / ((c1 - c0) as f64 * dx) } else { 0.0 };
+        let gv = if r1 > r0 { (at(r1, col) - at(r0, col)) / ((r1 - r0) as f64 * dy) } else { 0.0 };
+        (gu, gv)
+    }
+
+    /// Where the segment `p0 → p1` first enters the layer on the front of `face`: the segment
+    /// fraction, the point and the layer's unit normal there (from the thickness gradient). The
+    /// layer is the face raised by each cell's thickness; a segment that starts inside it enters
+    /// only after leaving it. `None` if it does not enter before reaching the bare face.
+    pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<(f64, DVec3, DVec3)> {
+        let top = self.max_thickness;
+        let h0 = (p0 - face.center).dot(face.normal);
+        let h1 = (p1 - face.center).dot(face.normal);
+        if top <= 0.0 || h0 <= 0.0 || h0.min(h1) > top {
+            return None;
+        }
+        // The part of the segment within the slab between the face and (just above) the thickest
+        // cell, so that a segment from above starts outside the layer even over its peak.
+        let roof = top * (1.0 + 1e-9);
+        let s_start = if h0 > roof { (h0 - roof) / (h0 - h1) } else { 0.0 };
+        let s_end = if h1 < 0.0 { h0 / (h0 - h1) } else { 1.0 };
+        let inside = |s: f64| -> Option<u32> {
+            let q = p0.lerp(p1, s);
+            let (u, v) = face.local(q);
+            if u.abs() > face.half_width || v.abs() > face.half_height {
+                return None;
+            }
+            let cell = self.cell_at(u, v);
+            ((q - face.center).dot(face.normal) <= self.thickness[cell as usize]).then_some(cell)
+        };
+        // March at half a cell along the face.
+        let (dx, dy) = self.cell_size();
+        let along = (p1 - p0) - face.normal * (h1 - h0);
+        let span = along.length() * (s_end - s_start);
+        let n = ((span / (0.5 * dx.min(dy))).ceil() as usize).clamp(1, 1 << 16);
+        let mut was_inside = inside(s_start).is_some();
+        let mut prev = s_start;
+        for k in 1..=n {
+            let s = s_start + (s_end - s_start) * k as f64 / n as f64;
+            let now = inside(s).is_some();
+            if now && !was_inside {
+                // Refine the entry between the last outside sample and this one.
+                let (mut a, mut b) = (prev, s);
+                for _ in 0..40 {
+                    let m = 0.5 * (a + b);
+                    if inside(m).is_some() {
+                        b = m;
+                    } else {
+                        a = m;
+                    }
+                }
+                // `b` stays inside throughout the bisection.
+                let cell = inside(b)?;
+                let (gu, gv) = self.gradient(cell);
+                let normal = (face.normal - face.right * gu - face.up * gv).normalize();
+                return Some((b, p0.lerp(p1, b), normal));
+            }
+            was_inside = now;
+            prev = s;
+        }
+        None
     }
 
     /// Σ thickness × cell area: the volume held by the field, m³.

@@ -45,6 +45,10 @@ pub struct ImpactModel {
     pub rest_speed: f64,
     /// Steepest surface (angle of its normal from +z, rad) on which a slow rebound can rest.
     pub rest_max_slope: f64,
+    /// Cushion effect: rebound probability multiplier on a bare substrate (1: no effect).
+    pub cushion_factor: f64,
+    /// Layer thickness at which the cushion multiplier has decayed to 1, m (0: no effect).
+    pub cushion_thickness: f64,
 }
 
 /// Outcome of one impact.
@@ -57,20 +61,29 @@ pub enum Outcome {
 }
 
 impl ImpactModel {
-    /// `P(rebound) = α · p_r(θ)`, clamped to `[0, 1]`, for `theta` (rad) from the normal.
-    pub fn rebound_probability(&self, theta: f64) -> f64 {
-        (self.alpha * self.curve.eval(theta)).clamp(0.0, 1.0)
+    /// `P(rebound) = α · p_r(θ) · m`, clamped to `[0, 1]`, for `theta` (rad) from the normal;
+    /// `m` is the cushion multiplier for a layer of `thickness` (m) under the impact (1 where
+    /// there is no layer to speak of, as on obstacles: `None`).
+    pub fn rebound_probability(&self, theta: f64, thickness: Option<f64>) -> f64 {
+        let m = match thickness {
+            Some(t) if self.cushion_thickness > 0.0 => {
+                1.0 + (self.cushion_factor - 1.0) * (1.0 - t / self.cushion_thickness).max(0.0)
+            }
+            _ => 1.0,
+        };
+        (self.alpha * self.curve.eval(theta) * m).clamp(0.0, 1.0)
     }
 
     /// Decides the outcome of an impact with velocity `v` (m/s) on a surface with unit `normal`
-    /// facing the incoming particle. Draws from `rng` in a fixed order (decision, then scatter),
-    /// so the outcome depends only on the particle's own stream.
-    pub fn resolve<R: Rng>(&self, v: DVec3, normal: DVec3, rng: &mut R) -> Outcome {
+    /// facing the incoming particle, over a layer of `thickness` (m; `None` off targets). Draws
+    /// from `rng` in a fixed order (decision, then scatter), so the outcome depends only on the
+    /// particle's own stream.
+    pub fn resolve<R: Rng>(&self, v: DVec3, normal: DVec3, thickness: Option<f64>, rng: &mut R) -> Outcome {
         let speed = v.length();
         let cos_theta = if speed > 0.0 { (-v.dot(normal) / speed).clamp(0.0, 1.0) } else { 1.0 };
         let theta = cos_theta.acos();
         let u: f64 = rng.random();
-        if u >= self.rebound_probability(theta) {
+        if u >= self.rebound_probability(theta, thickness) {
             return Outcome::Stick;
         }
         let out_speed = speed * self.restitution;

@@ -95,6 +95,29 @@ pub fn slerp(a: DVec3, b: DVec3, f: f64) -> DVec3 {
     (a * ((1.0 - f) * omega).sin() / s + b * (f * omega).sin() / s).normalize()
 }
 
+/// Waypoints of a static nozzle circling `position` (radius m, frequency Hz) in the plane
+/// perpendicular to `axis` until `until` (s), sampled 36 times a revolution.
+pub fn circling_waypoints(
+    position: DVec3,
+    axis: DVec3,
+    radius: f64,
+    frequency: f64,
+    until: f64,
+) -> Vec<Waypoint> {
+    let axis = axis.normalize();
+    let frame = NozzleFrame::new(position, axis, 0.0);
+    let step = 1.0 / (36.0 * frequency);
+    let n = (until / step).ceil() as usize + 1;
+    (0..=n)
+        .map(|k| {
+            let t = k as f64 * step;
+            let phase = std::f64::consts::TAU * frequency * t;
+            let offset = (frame.width_axis * phase.cos() + frame.height_axis * phase.sin()) * radius;
+            Waypoint { time: t, position: position + offset, axis, spray: true }
+        })
+        .collect()
+}
+
 /// Waypoints of a raster over `face` (see [`crate::scenario::RasterParams`]): passes from the
 /// bottom (horizontal) or the left (vertical), alternating direction, the nozzle at the standoff
 /// along the face's normal, spraying against it; a circular motion, if any, is sampled 36 times
@@ -195,5 +218,17 @@ mod tests {
             assert!((g.axis.dot(g.width_axis)).abs() < 1e-12 && (g.axis.dot(g.height_axis)).abs() < 1e-12);
             assert!((g.width_axis.cross(g.height_axis) - g.axis).length() < 1e-12);
         }
+    }
+
+    #[test]
+    fn a_circling_nozzle_stays_on_its_circle_across_the_axis() {
+        let axis = DVec3::new(1.0, 0.0, 0.0);
+        let w = circling_waypoints(DVec3::new(-1.0, 0.0, 1.0), axis, 0.1, 2.0, 1.0);
+        assert_eq!(w.len(), 74, "36 samples a revolution over 2 revolutions, and both ends");
+        for p in &w {
+            let off = p.position - DVec3::new(-1.0, 0.0, 1.0);
+            assert!((off.length() - 0.1).abs() < 1e-12 && off.dot(axis).abs() < 1e-12);
+        }
+        assert!(w[36].position.abs_diff_eq(w[0].position, 1e-12), "one revolution in 0.5 s");
     }
 }

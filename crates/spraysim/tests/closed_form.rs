@@ -115,6 +115,8 @@ fn scatter_angles_are_uniform_over_the_scatter_cone() {
         scatter: half,
         rest_speed: 0.0,
         rest_max_slope: 0.0,
+        cushion_factor: 1.0,
+        cushion_thickness: 0.0,
     };
     // Normal incidence: the specular direction is the normal, the cone stays off the surface.
     let (n, v) = (DVec3::Z, DVec3::new(0.0, 0.0, -10.0));
@@ -124,7 +126,7 @@ fn scatter_angles_are_uniform_over_the_scatter_cone() {
     let mut hist = [0usize; BINS];
     let mut mean_speed = 0.0;
     for _ in 0..N {
-        let Outcome::Rebound(out) = model.resolve(v, n, &mut rng) else { panic!("forced rebound") };
+        let Outcome::Rebound(out) = model.resolve(v, n, None, &mut rng) else { panic!("forced rebound") };
         mean_speed += out.length() / N as f64;
         // Uniform over the cap's solid angle: 1 − cos ψ is uniform on [0, 1 − cos(half)].
         let u = (1.0 - out.normalize().z) / (1.0 - half.cos());

@@ -1,5 +1,5 @@
 //! The paper's Figure-4 scenes as shipped in `examples/`: same robot task, four process set-ups.
-//! Runs cover the first 12 s of the 36 s task (the lowest passes).
+//! Runs cover the first 12 s of the 18 s task (the lowest passes).
 
 use spraysim::{Metrics, Scenario, Simulation};
 

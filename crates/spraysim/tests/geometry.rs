@@ -252,11 +252,13 @@ fn indexed_scene_query_matches_the_linear_scan() {
                 shape: random_shape(&mut rng, 1 + i % 5),
                 kind: SurfaceKind::Obstacle(i),
                 impact: 0,
+                layer: 0.0,
             })
             .chain(std::iter::once(SurfaceRef {
                 shape: Shape::Plane(Plane { point: DVec3::new(0.0, 0.0, -0.9), normal: DVec3::Z }),
                 kind: SurfaceKind::Obstacle(200),
                 impact: 0,
+                layer: 0.0,
             }))
             .collect();
         // Bounds smaller than the scene in some runs: the query must not depend on them.

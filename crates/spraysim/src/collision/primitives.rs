@@ -4,7 +4,7 @@ use super::Hit;
 use glam::DVec3;
 
 /// Axis-aligned bounding box, m.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Aabb {
     /// Lower corner, m.
     pub min: DVec3,

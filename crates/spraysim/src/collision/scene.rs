@@ -22,6 +22,23 @@ pub struct SurfaceRef {
     pub kind: SurfaceKind,
     /// Index into the simulation's impact models.
     pub impact: usize,
+    /// How far in front of a face (along its normal) a deposited layer may reach, m; the face's
+    /// bounding box is grown by it so that the broad phase sees the layer.
+    pub layer: f64,
+}
+
+impl SurfaceRef {
+    /// Bounding box including the layer allowance (`None` for unbounded planes).
+    fn bounds(&self) -> Option<Aabb> {
+        let b = self.shape.aabb()?;
+        match self.shape {
+            Shape::Face(f) if self.layer > 0.0 => {
+                let reach = f.normal * self.layer;
+                Some(Aabb { min: b.min.min(b.min + reach), max: b.max.max(b.max + reach) })
+            }
+            _ => Some(b),
+        }
+    }
 }
 
 /// All surfaces of a scenario, indexed for segment queries.
@@ -34,19 +51,27 @@ pub struct Scene {
     /// exact test.
     boxes: Vec<Aabb>,
     grid: Grid,
+    bounds: Aabb,
 }
 
 impl Scene {
     /// Indexes `surfaces` for queries inside `bounds` (the simulation domain; nothing outside
     /// it is ever queried).
     pub fn new(surfaces: Vec<SurfaceRef>, bounds: Aabb) -> Scene {
-        let boxes: Vec<Option<Aabb>> = surfaces.iter().map(|s| s.shape.aabb()).collect();
+        let boxes: Vec<Option<Aabb>> = surfaces.iter().map(SurfaceRef::bounds).collect();
         let unbounded = (0..surfaces.len() as u32).filter(|&i| boxes[i as usize].is_none()).collect();
         let grid = Grid::new(&boxes, bounds);
         let everywhere = Aabb { min: DVec3::NEG_INFINITY, max: DVec3::INFINITY };
         // A small margin keeps the reject conservative against rounding.
         let boxes = boxes.iter().map(|b| b.map_or(everywhere, |b| b.inflate(1e-9))).collect();
-        Scene { surfaces, unbounded, boxes, grid }
+        Scene { surfaces, unbounded, boxes, grid, bounds }
+    }
+
+    /// Sets how far a layer may reach in front of surface `i` (m) and re-indexes the scene.
+    pub fn set_layer_allowance(&mut self, i: usize, reach: f64) {
+        let mut surfaces = std::mem::take(&mut self.surfaces);
+        surfaces[i].layer = reach;
+        *self = Scene::new(surfaces, self.bounds);
     }
 
     /// The surfaces, in the order they were given.

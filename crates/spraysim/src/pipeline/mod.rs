@@ -191,6 +191,7 @@ impl Simulation {
         if self.cohesion_every > 0 && (self.step + 1) % self.cohesion_every == 0 {
             self.cohesion();
         }
+        self.grow_layer_allowances();
         if self.retired > CHUNK && self.retired * 4 > self.swarm.len() {
             self.swarm.compact();
             self.retired = 0;
@@ -224,6 +225,18 @@ impl Simulation {
             self.tally.emitted.add(f64::from(volume));
         }
         self.next_id += n;
+    }
+
+    /// Keeps the broad phase aware of every layer: when a target's layer outgrows the reach it
+    /// was indexed with, the reach doubles and the scene is re-indexed (a few times per run).
+    fn grow_layer_allowances(&mut self) {
+        for (i, t) in self.targets.iter().enumerate() {
+            // Target faces come first among the surfaces, in target order.
+            let top = t.field.max_thickness();
+            if top > self.scene.surfaces()[i].layer {
+                self.scene.set_layer_allowance(i, (2.0 * top).max(0.01));
+            }
+        }
     }
 
     /// Cohesion stage: analyses every target's layer; failing regions leave the heightfield

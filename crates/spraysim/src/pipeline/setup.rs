@@ -9,7 +9,7 @@ use crate::heightfield::HeightField;
 use crate::impact::{ImpactModel, ReboundCurve};
 use crate::integrator::Motion;
 use crate::metrics::Tally;
-use crate::nozzle::{NozzlePath, Waypoint, raster_waypoints};
+use crate::nozzle::{NozzlePath, Waypoint, circling_waypoints, raster_waypoints};
 use crate::rng::StreamKey;
 use crate::scenario::{ImpactOverride, ImpactParams, ObstacleParams, ObstacleShape, ReboundModel, Scenario};
 use crate::swarm::Swarm;
@@ -55,6 +55,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             shape: Shape::Face(face),
             kind: SurfaceKind::Target(i),
             impact: model_for(&t.impact),
+            layer: 0.0,
         });
     }
     let mut obstacles = Vec::new();
@@ -63,6 +64,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             shape: obstacle_shape(o),
             kind: SurfaceKind::Obstacle(i),
             impact: model_for(&o.impact),
+            layer: 0.0,
         });
         obstacles.push(Obstacle {
             name: o.name.clone(),
@@ -104,6 +106,12 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         // Validation guarantees the raster's target exists.
         let face = sc.targets.iter().position(|t| t.name == r.target).map(|i| targets[i].face);
         NozzlePath::through(face.map(|f| raster_waypoints(&f, r)).unwrap_or_default(), roll)
+    } else if n.circle_radius > 0.0 {
+        let until = sc.simulation.duration;
+        NozzlePath::through(
+            circling_waypoints(v3(n.position), v3(n.axis), n.circle_radius, n.circle_frequency, until),
+            roll,
+        )
     } else if n.waypoints.is_empty() {
         NozzlePath::fixed(v3(n.position), v3(n.axis), roll)
     } else {
@@ -162,6 +170,8 @@ pub(crate) fn impact_model(p: &ImpactParams) -> ImpactModel {
         scatter: p.scatter_angle.to_radians(),
         rest_speed: p.rest_speed,
         rest_max_slope: p.rest_max_slope.to_radians(),
+        cushion_factor: p.cushion_factor,
+        cushion_thickness: p.cushion_thickness,
     }
 }
 

@@ -138,10 +138,30 @@ impl UpdateContext<'_> {
     }
 
     /// Flies from `x` with velocity `v` for `dt`: the end position and velocity, and the first
-    /// hit on the way with the velocity at impact.
+    /// hit on the way with the velocity at impact. A deposited layer is struck on its top,
+    /// found along the straight chord of the step (for the exact integrator, the arc's chord,
+    /// which it leaves by at most g Δt²/8).
     fn fly(&self, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3, Option<(usize, Hit, DVec3)>) {
         let (x1, v1) = self.motion.advance(x, v, dt);
-        let hit = match self.motion.integrator {
+        let mut hit = self.fly_bare(x, v, x1, v1, dt);
+        // Target faces come first among the scene's surfaces, in target order.
+        for (i, target) in self.targets.iter().enumerate() {
+            if let Some((s, point, normal)) = target.field.layer_contact(&target.face, x, x1)
+                && hit.is_none_or(|(_, h, _)| s < h.t)
+            {
+                let v_in = match self.motion.integrator {
+                    Integrator::Exact => v + self.motion.gravity * (s * dt),
+                    Integrator::Euler | Integrator::SemiImplicitEuler => v.lerp(v1, s),
+                };
+                hit = Some((i, Hit { t: s, point, normal }, v_in));
+            }
+        }
+        (x1, v1, hit)
+    }
+
+    /// The first hit on the bare surfaces.
+    fn fly_bare(&self, x: DVec3, v: DVec3, x1: DVec3, v1: DVec3, dt: f64) -> Option<(usize, Hit, DVec3)> {
+        match self.motion.integrator {
             Integrator::Exact => {
                 let arc = Arc { x0: x, v0: v, g: self.motion.gravity, duration: dt };
                 self.scene.first_hit_arc(&arc).map(|(s, h)| (s, h, arc.velocity(h.t * dt)))
@@ -154,8 +174,7 @@ impl UpdateContext<'_> {
                 }
                 (s, h, v_in)
             }),
-        };
-        (x1, v1, hit)
+        }
     }
 
     /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true
@@ -174,7 +193,16 @@ impl UpdateContext<'_> {
             p.impacts = p.impacts.saturating_add(1);
             let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
             let surface = &self.scene.surfaces()[s];
-            let outcome = self.models[surface.impact].resolve(v_in, hit.normal, &mut rng);
+            // The layer under a target impact (for the cushion effect); none elsewhere.
+            let layer = match surface.kind {
+                SurfaceKind::Target(t) if hit.normal.dot(self.targets[t].face.normal) > 0.0 => {
+                    let target = &self.targets[t];
+                    let (u, w) = target.face.local(hit.point);
+                    Some(target.field.thickness()[target.field.cell_at(u, w) as usize])
+                }
+                _ => None,
+            };
+            let outcome = self.models[surface.impact].resolve(v_in, hit.normal, layer, &mut rng);
             let mut rec = ImpactRecord { surface: s as u32, cell: u32::MAX, volume: p.volume, flags: 0 };
             if p.flags & flags::RELEASED != 0 {
                 rec.flags |= record::RELEASED;

@@ -177,6 +177,11 @@ overridable! {
         /// Steepest surface (angle of its normal from +z) on which a slow rebound can rest,
         /// degrees, 0..180. On steeper surfaces it slides off and falls.
         pub rest_max_slope: f64,
+        /// Cushion effect: rebound probability multiplier on bare substrate, decaying linearly
+        /// to 1 as the local layer grows to `cushion_thickness`. 1 switches it off.
+        pub cushion_factor: f64,
+        /// Layer thickness at which the cushion multiplier reaches 1, m. 0 switches it off.
+        pub cushion_thickness: f64,
     }
 }
 
@@ -303,6 +308,11 @@ pub struct NozzleParams {
     pub axis: [f64; 3],
     /// Roll of the aperture about the axis, degrees. At 0 the width axis is horizontal.
     pub roll: f64,
+    /// Radius of a circular motion of the static nozzle about `position`, in the plane
+    /// perpendicular to `axis` (the nozzleman's circles), m. Default 0 (none).
+    pub circle_radius: f64,
+    /// Revolutions per second of that motion, Hz. Default 0.
+    pub circle_frequency: f64,
     /// Time-stamped poses; position is interpolated linearly, the axis spherically.
     pub waypoints: Vec<WaypointParams>,
     /// A robot tool path to read into `waypoints`: a CSV file (relative to the scenario's
@@ -383,6 +393,8 @@ impl Default for NozzleParams {
             position: [-1.0, 0.0, 1.0],
             axis: [1.0, 0.0, 0.0],
             roll: 0.0,
+            circle_radius: 0.0,
+            circle_frequency: 0.0,
             waypoints: Vec::new(),
             path_csv: None,
             raster: None,

@@ -32,10 +32,12 @@ impl Preset {
                     alpha: 1.0, // Table 1: the angle curve governs rebound
                     rebound_model: ReboundModel::Polynomial,
                     rebound_polynomial: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec(),
-                    restitution: 0.04,  // Table 1: 0.03–0.05
-                    scatter_angle: 5.0, // Table 1: "small angular noise"
-                    rest_speed: 0.5,    // m/s; slower rebounds stay put
-                    rest_max_slope: 45.0,
+                    restitution: 0.04,    // Table 1: 0.03–0.05
+                    scatter_angle: 5.0,   // Table 1: "small angular noise"
+                    rest_speed: 0.5,      // m/s; slower rebounds stay put
+                    rest_max_slope: 90.0, // wet mix holds on any face that is not an overhang
+                    cushion_factor: 1.0,  // the cushion effect (ACI 506) is off by default
+                    cushion_thickness: 0.0,
                 },
                 // Fresh wet-mix shotcrete builds about 50–100 mm overhead and 200–300 mm on a
                 // wall in one pass: ρ g t at those thicknesses sets the adhesive strengths.
@@ -61,6 +63,8 @@ impl Preset {
                     scatter_angle: 0.0, // Table 1: negligible
                     rest_speed: 0.0,
                     rest_max_slope: 45.0,
+                    cushion_factor: 1.0, // the cushion effect (ACI 506) is off by default
+                    cushion_thickness: 0.0,
                 },
                 // Table 1: no cohesive failure (sagging is a separate model).
                 cohesion: CohesionParams { interval: 0.0, ..COHESION_OFF },
@@ -80,6 +84,8 @@ impl Preset {
                     scatter_angle: 20.0, // Table 1: moderate–large
                     rest_speed: 0.5,     // grains come to rest on the floor
                     rest_max_slope: 45.0,
+                    cushion_factor: 1.0, // the cushion effect (ACI 506) is off by default
+                    cushion_thickness: 0.0,
                 },
                 // Table 1: no cohesive failure.
                 cohesion: CohesionParams { interval: 0.0, ..COHESION_OFF },
@@ -149,6 +155,8 @@ const UNITS: &[(&str, &str)] = &[
     ("scatter_angle", "degrees, half-angle about the specular direction"),
     ("rest_speed", "m/s"),
     ("rest_max_slope", "degrees from +z"),
+    ("cushion_factor", "rebound multiplier on bare substrate, 1 = off"),
+    ("cushion_thickness", "m, layer at which the multiplier reaches 1"),
     ("interval", "s between failure analyses, 0 = off"),
     ("tensile_strength", "Pa, adhesive pull-off strength"),
     ("shear_strength", "Pa, adhesive shear strength"),

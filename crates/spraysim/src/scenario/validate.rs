@@ -203,6 +203,18 @@ impl Scenario {
             }
             return self.check_raster(r);
         }
+        range("nozzle.circle_radius", n.circle_radius, 0.0, 10.0, "m")?;
+        range("nozzle.circle_frequency", n.circle_frequency, 0.0, 100.0, "Hz")?;
+        let circling = n.circle_radius > 0.0;
+        if circling && (n.circle_frequency == 0.0 || !n.waypoints.is_empty() || n.raster.is_some()) {
+            return Err(bad(
+                "nozzle.circle_radius",
+                "needs circle_frequency > 0 and a static nozzle (a raster has its own circle_radius)",
+            ));
+        }
+        if circling && n.circle_frequency * self.simulation.duration * 36.0 > 1e7 {
+            return Err(bad("nozzle.circle_frequency", "makes a path of more than 10⁷ waypoints"));
+        }
         if n.waypoints.is_empty() {
             point("nozzle.position", n.position)?;
             direction("nozzle.axis", n.axis)?;
@@ -301,7 +313,9 @@ fn check_impact(key: &str, i: &ImpactParams) -> Check {
     range(&format!("{key}.restitution"), i.restitution, 0.0, 1.0, "")?;
     range(&format!("{key}.scatter_angle"), i.scatter_angle, 0.0, 90.0, "degrees")?;
     range(&format!("{key}.rest_speed"), i.rest_speed, 0.0, 1e3, "m/s")?;
-    range(&format!("{key}.rest_max_slope"), i.rest_max_slope, 0.0, 180.0, "degrees")
+    range(&format!("{key}.rest_max_slope"), i.rest_max_slope, 0.0, 180.0, "degrees")?;
+    range(&format!("{key}.cushion_factor"), i.cushion_factor, 0.0, 100.0, "")?;
+    range(&format!("{key}.cushion_thickness"), i.cushion_thickness, 0.0, 10.0, "m")
 }
 
 /// Checks an override by laying it over neutral values: only the keys it sets can fail.
