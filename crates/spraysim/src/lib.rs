@@ -16,7 +16,7 @@
 //! - [`cohesion`]: cohesive failure of the deposited layer;
 //! - [`pipeline`]: the [`Simulation`] and its stages;
 //! - [`metrics`] and [`io`]: results, files and heatmaps;
-//! - [`bench`]: the reference scene for performance measurements.
+//! - [`mod@bench`]: the reference scene for performance measurements.
 //!
 //! ```
 //! use spraysim::{Scenario, Simulation};
