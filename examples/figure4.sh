@@ -9,12 +9,16 @@ for scene in figure4a_shotcrete_rebar figure4b_shotcrete figure4c_painting figur
     ./target/release/spraysim run "examples/$scene.toml" -o "out/$scene" -q
     cp "out/$scene/wall_thickness.png" "docs/images/figure4/${scene}_thickness.png"
     cp "out/$scene/wall_hits.png" "docs/images/figure4/${scene}_hits.png"
+    if [ -f "out/$scene/wall_erosion.png" ]; then
+        cp "out/$scene/wall_erosion.png" "docs/images/figure4/${scene}_erosion.png"
+    fi
     python3 - "out/$scene/metrics.json" "$scene" <<'PY' 2>/dev/null || true
 import json, sys
 m = json.load(open(sys.argv[1]))
 w = m["targets"][0]
 pct = lambda x: "n/a" if x is None else f"{100 * x:.1f} %"
 print(f"{sys.argv[2]}: transfer efficiency {pct(m['transfer_efficiency'])}, rebound ratio {pct(m['rebound_ratio'])}, "
-      f"wall mean {1e3 * w['thickness']['mean']:.2f} mm, hits {w['hits']}, failures {len(m['failures']['events'])}")
+      f"wall mean {1e3 * w['thickness']['mean']:.2f} mm, hits {w['hits']}, failures {len(m['failures']['events'])}"
+      + (f", cleaned {100 * w['erosion']['cleaned_fraction']:.1f} % of the wall" if w.get('erosion') and w['erosion']['cleaned_fraction'] is not None else ""))
 PY
 done

@@ -13,7 +13,7 @@
 //! - [`collision`]: segment tests against planes, faces, disks, spheres, boxes, cylinders;
 //! - [`impact`]: stick or rebound, restitution, scatter;
 //! - [`heightfield`] and [`target`]: deposited layers and per-surface tallies;
-//! - [`cohesion`]: cohesive failure of the deposited layer;
+//! - [`cohesion`]: cohesive failure of the deposited layer; [`erosion`]: abrasive wear;
 //! - [`pipeline`]: the [`Simulation`] and its stages;
 //! - [`metrics`] and [`io`]: results, files and heatmaps;
 //! - [`mod@bench`]: the reference scene for performance measurements.
@@ -52,6 +52,7 @@ pub mod bench;
 pub mod cohesion;
 pub mod collision;
 pub mod emitter;
+pub mod erosion;
 pub mod heightfield;
 pub mod impact;
 pub mod integrator;

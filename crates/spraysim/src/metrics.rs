@@ -158,6 +158,24 @@ pub struct TargetMetrics {
     pub at_risk_fraction: f64,
     /// Share of cells that have failed, 0..1.
     pub failed_fraction: f64,
+    /// Impacts per cm² of the face, on average.
+    pub hits_per_cm2: f64,
+    /// Erosion (with an erosion model).
+    pub erosion: Option<ErosionStats>,
+    /// Share of cells whose wet film risks sagging (with a sag threshold), 0..1.
+    pub sag_risk_fraction: Option<f64>,
+}
+
+/// Erosion of one target.
+#[derive(Clone, Debug, Serialize)]
+pub struct ErosionStats {
+    /// Mean eroded depth over the face, m.
+    pub mean_depth: f64,
+    /// Deepest erosion, m.
+    pub max_depth: f64,
+    /// Share of the face cleaned to bare substrate (coating fully removed), 0..1; `null`
+    /// without a coating.
+    pub cleaned_fraction: Option<f64>,
 }
 
 /// Per-obstacle metrics.
@@ -263,6 +281,16 @@ impl Metrics {
                 .map(|t| {
                     let cells = t.failure_mask.len().max(1) as f64;
                     let share = |m: u8| t.failure_mask.iter().filter(|&&x| x == m).count() as f64 / cells;
+                    let area_cm2 = cells * t.field.cell_area() * 1e4;
+                    let erosion = (!t.erosion.is_empty()).then(|| ErosionStats {
+                        mean_depth: t.erosion.iter().sum::<f64>() / cells,
+                        max_depth: t.erosion.iter().copied().fold(0.0, f64::max),
+                        cleaned_fraction: (t.initial_coating > 0.0)
+                            .then(|| t.coating.iter().filter(|&&c| c <= 0.0).count() as f64 / cells),
+                    });
+                    let sag = scenario.process.sag_threshold;
+                    let sag_risk_fraction = (sag > 0.0)
+                        .then(|| t.sag_risk(sag).iter().map(|&m| f64::from(m)).sum::<f64>() / cells);
                     TargetMetrics {
                         name: t.name.clone(),
                         role: t.role,
@@ -278,6 +306,9 @@ impl Metrics {
                         detached: t.detached,
                         at_risk_fraction: share(1),
                         failed_fraction: share(2),
+                        hits_per_cm2: t.field.hits().iter().map(|&h| f64::from(h)).sum::<f64>() / area_cm2,
+                        erosion,
+                        sag_risk_fraction,
                     }
                 })
                 .collect(),

@@ -61,6 +61,25 @@ pub struct Target {
     pub detached: Amount,
     /// Per cell: 0 sound, 1 over-loaded at the last analysis, 2 failed at some time.
     pub failure_mask: Vec<u8>,
+    /// Per cell: depth eroded by impacts, m (empty when erosion is off).
+    pub erosion: Vec<f64>,
+    /// Per cell: coating left, m (empty when erosion is off).
+    pub coating: Vec<f64>,
+    /// Coating thickness at the start, m.
+    pub initial_coating: f64,
+}
+
+impl Target {
+    /// Per cell, 1 where a wet film risks sagging: its thickness times the sine of the face's
+    /// tilt from horizontal exceeds `threshold` (m). A horizontal face never sags.
+    pub fn sag_risk(&self, threshold: f64) -> Vec<u8> {
+        let tilt_sin = (1.0 - self.face.normal.z * self.face.normal.z).max(0.0).sqrt();
+        self.field
+            .thickness()
+            .iter()
+            .map(|&t| u8::from(threshold > 0.0 && t * tilt_sin > threshold))
+            .collect()
+    }
 }
 
 /// An obstacle and what has struck it.

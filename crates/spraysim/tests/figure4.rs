@@ -68,4 +68,7 @@ fn blasting_leaves_no_deposit_and_a_nonzero_impact_map() {
     assert_eq!(wall.field.volume(), 0.0);
     assert!(wall.field.hits().iter().filter(|&&h| h > 0).count() > 10_000);
     assert_eq!(m.rebound_ratio, Some(1.0));
+    let erosion = m.targets[0].erosion.as_ref().expect("blasting erodes");
+    assert!(erosion.max_depth > 0.0 && wall.erosion.iter().filter(|&&e| e > 0.0).count() > 10_000);
+    assert!(erosion.cleaned_fraction.expect("coated") > 0.0);
 }

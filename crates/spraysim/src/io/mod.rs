@@ -102,6 +102,10 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
             let thickness: Vec<f32> = t.field.thickness().iter().map(|&x| x as f32).collect();
             put(format!("{}_thickness.npy", t.name), &npy_bytes(rows, cols, thickness, staging)?)?;
             put(format!("{}_hits.npy", t.name), &npy_bytes(rows, cols, t.field.hits().to_vec(), staging)?)?;
+            if !t.erosion.is_empty() {
+                let eroded: Vec<f32> = t.erosion.iter().map(|&x| x as f32).collect();
+                put(format!("{}_erosion.npy", t.name), &npy_bytes(rows, cols, eroded, staging)?)?;
+            }
         }
         if sc.output.images {
             let max = t.field.thickness().iter().copied().fold(0.0, f64::max);
@@ -117,6 +121,25 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
             let img =
                 heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, sc.output.colormap);
             put(format!("{}_hits.png", t.name), &png_bytes(&img, staging)?)?;
+            if !t.erosion.is_empty() {
+                let deepest = t.erosion.iter().copied().fold(0.0, f64::max);
+                let mut scale = heatmap::Scale::thickness(deepest);
+                scale.label = scale.label.replace("thickness", "eroded");
+                let grid = heatmap::Grid { values: &t.erosion, cols, rows, marks: None };
+                let img = heatmap::render(&grid, &format!("{}: erosion", t.name), &scale, sc.output.colormap);
+                put(format!("{}_erosion.png", t.name), &png_bytes(&img, staging)?)?;
+            }
+            if sc.process.sag_threshold > 0.0 {
+                let risk = t.sag_risk(sc.process.sag_threshold);
+                let grid = heatmap::Grid { marks: Some(&risk), ..grid };
+                let img = heatmap::render(
+                    &grid,
+                    &format!("{}: sag risk (orange)", t.name),
+                    &scale,
+                    sc.output.colormap,
+                );
+                put(format!("{}_sag.png", t.name), &png_bytes(&img, staging)?)?;
+            }
             if sc.process.cohesion.interval > 0.0 {
                 let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
                 let title = format!("{}: failed (red), at risk (orange)", t.name);

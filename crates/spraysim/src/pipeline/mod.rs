@@ -298,6 +298,8 @@ impl Simulation {
             key: self.key,
             max_impacts: self.scenario.simulation.max_impacts_per_step,
             max_lifetime: self.scenario.process.max_lifetime,
+            erosion: &self.scenario.process.erosion,
+            density: self.scenario.process.density,
         };
         let s = &mut self.swarm;
         self.particle_steps += (s.len() - self.retired) as u64;
@@ -340,6 +342,12 @@ impl Simulation {
                         t.hits += 1;
                         if !back {
                             t.field.add_hit(rec.cell);
+                            if rec.eroded > 0.0 {
+                                let depth = f64::from(rec.eroded) / t.field.cell_area();
+                                let c = rec.cell as usize;
+                                t.erosion[c] += depth;
+                                t.coating[c] = (t.coating[c] - depth).max(0.0);
+                            }
                         }
                         if stuck {
                             if !back {

@@ -35,6 +35,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
     };
     let mut surfaces = Vec::new();
     let mut targets = Vec::new();
+    let eroding = sc.process.erosion.model != crate::scenario::ErosionModel::None;
     for (i, t) in sc.targets.iter().enumerate() {
         let face = Face::new(v3(t.center), v3(t.normal), v3(t.up), t.size);
         let [cols, rows] = t.resolution.map(|r| r as usize);
@@ -50,6 +51,9 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             received_back: 0.0,
             detached: Amount::default(),
             failure_mask: vec![0; cols * rows],
+            erosion: if eroding { vec![0.0; cols * rows] } else { Vec::new() },
+            coating: if eroding { vec![t.coating; cols * rows] } else { Vec::new() },
+            initial_coating: t.coating,
         });
         surfaces.push(SurfaceRef {
             shape: Shape::Face(face),

@@ -4,10 +4,11 @@
 //! [`ImpactRecord`]s for the apply stage.
 
 use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceKind};
+use crate::erosion::removed_volume;
 use crate::impact::{ImpactModel, Outcome};
 use crate::integrator::{Integrator, Motion};
 use crate::rng::StreamKey;
-use crate::scenario::Role;
+use crate::scenario::{ErosionParams, Role};
 use crate::swarm::flags;
 use crate::target::{Amount, Target};
 use glam::DVec3;
@@ -30,6 +31,8 @@ pub(crate) struct ImpactRecord {
     pub surface: u32,
     pub cell: u32,
     pub volume: f32,
+    /// Volume the impact erodes from the target, m³.
+    pub eroded: f32,
     pub flags: u8,
 }
 
@@ -57,6 +60,8 @@ pub(crate) struct UpdateContext<'a> {
     pub key: StreamKey,
     pub max_impacts: u32,
     pub max_lifetime: f64,
+    pub erosion: &'a ErosionParams,
+    pub density: f64,
 }
 
 /// Mutable views of one chunk of the swarm's arrays.
@@ -203,7 +208,8 @@ impl UpdateContext<'_> {
                 _ => None,
             };
             let outcome = self.models[surface.impact].resolve(v_in, hit.normal, layer, &mut rng);
-            let mut rec = ImpactRecord { surface: s as u32, cell: u32::MAX, volume: p.volume, flags: 0 };
+            let mut rec =
+                ImpactRecord { surface: s as u32, cell: u32::MAX, volume: p.volume, eroded: 0.0, flags: 0 };
             if p.flags & flags::RELEASED != 0 {
                 rec.flags |= record::RELEASED;
             }
@@ -212,6 +218,14 @@ impl UpdateContext<'_> {
                 if hit.normal.dot(target.face.normal) > 0.0 {
                     let (u, w) = target.face.local(hit.point);
                     rec.cell = target.field.cell_at(u, w);
+                    if !target.erosion.is_empty() {
+                        let speed = v_in.length();
+                        // γ: the impact angle from the surface.
+                        let gamma =
+                            (-v_in.dot(hit.normal) / speed.max(f64::MIN_POSITIVE)).clamp(0.0, 1.0).asin();
+                        let mass = f64::from(p.volume) * self.density;
+                        rec.eroded = removed_volume(self.erosion, mass, speed, gamma) as f32;
+                    }
                     if target.role == Role::Substrate && p.flags & flags::HIT_SUBSTRATE == 0 {
                         p.flags |= flags::HIT_SUBSTRATE;
                         rec.flags |= record::FIRST_SUBSTRATE;

@@ -85,6 +85,8 @@ impl ScenarioFile {
         process.coverage_threshold = p.coverage_threshold.unwrap_or(process.coverage_threshold);
         process.impact.apply(&p.impact);
         process.cohesion.apply(&p.cohesion);
+        process.erosion.apply(&p.erosion);
+        process.sag_threshold = p.sag_threshold.unwrap_or(process.sag_threshold);
         let mut emitter = preset.emitter();
         emitter.apply(&self.emitter);
         let domain =

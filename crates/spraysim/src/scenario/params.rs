@@ -199,6 +199,48 @@ overridable! {
     }
 }
 
+/// Erosion model of `[process.erosion]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErosionModel {
+    /// No erosion.
+    None,
+    /// Finnie (ductile targets): removed volume = k · m v² · f(γ).
+    Finnie,
+    /// Oka: removed volume = g(γ) · E90 · m.
+    Oka,
+}
+
+overridable! {
+    /// `[process.erosion]`: material removed from targets by impacts (abrasive blasting), see
+    /// [`crate::erosion`]. γ is the impact angle from the surface.
+    pub struct ErosionParams / ErosionOverride {
+        /// `"none"`, `"finnie"` or `"oka"`.
+        pub model: ErosionModel,
+        /// Finnie's k: volume removed per joule of m v² f(γ), m³/J.
+        pub finnie_k: f64,
+        /// Oka's E90 at the reference speed and grain size: volume removed per kg at normal
+        /// incidence, m³/kg.
+        pub oka_e90: f64,
+        /// Oka's exponent n₁ of sin γ.
+        pub oka_n1: f64,
+        /// Oka's exponent n₂ of (1 + Hv (1 − sin γ)).
+        pub oka_n2: f64,
+        /// Vickers hardness of the target, GPa.
+        pub oka_hv: f64,
+        /// Oka's speed exponent k₂.
+        pub oka_k2: f64,
+        /// Oka's grain-size exponent k₃.
+        pub oka_k3: f64,
+        /// Oka's reference speed, m/s.
+        pub oka_v_ref: f64,
+        /// Oka's reference grain diameter, m.
+        pub oka_d_ref: f64,
+        /// Diameter of the abrasive grains, m.
+        pub grain_diameter: f64,
+    }
+}
+
 /// `[process]`: the material and its flight.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -219,6 +261,11 @@ pub struct ProcessParams {
     pub impact: ImpactParams,
     /// Cohesive failure of deposited layers.
     pub cohesion: CohesionParams,
+    /// Erosion of targets by impacts.
+    pub erosion: ErosionParams,
+    /// Wet-film thickness above which a film sags on a vertical face, m (on a face tilted by
+    /// β from horizontal, when t · sin β exceeds it); 0 switches sag flagging off.
+    pub sag_threshold: f64,
 }
 
 /// `[process]` as a file gives it: every key optional.
@@ -243,6 +290,11 @@ pub struct ProcessOverride {
     /// See [`ProcessParams::cohesion`].
     #[serde(default)]
     pub cohesion: CohesionOverride,
+    /// See [`ProcessParams::erosion`].
+    #[serde(default)]
+    pub erosion: ErosionOverride,
+    /// See [`ProcessParams::sag_threshold`].
+    pub sag_threshold: Option<f64>,
 }
 
 overridable! {
@@ -429,6 +481,9 @@ pub struct TargetParams {
     /// Radius over which each stuck particle's volume is spread, m. Default 0 (one cell).
     #[serde(default)]
     pub splat_radius: f64,
+    /// Thickness of a coating on the face at the start, which erosion removes, m. Default 0.
+    #[serde(default)]
+    pub coating: f64,
     /// Impact parameters that differ from the process's.
     #[serde(default, skip_serializing_if = "is_default")]
     pub impact: ImpactOverride,

@@ -293,6 +293,22 @@ fn check_process(p: &ProcessParams) -> Check {
     range("process.drag", p.drag, 0.0, 1e3, "1/m")?;
     positive("process.max_lifetime", p.max_lifetime, 1e6, "s")?;
     range("process.coverage_threshold", p.coverage_threshold, 0.0, 10.0, "m")?;
+    range("process.sag_threshold", p.sag_threshold, 0.0, 1.0, "m")?;
+    let e = &p.erosion;
+    range("process.erosion.finnie_k", e.finnie_k, 0.0, 1.0, "m³/J")?;
+    range("process.erosion.oka_e90", e.oka_e90, 0.0, 1.0, "m³/kg")?;
+    for (k, v, hi) in [
+        ("oka_n1", e.oka_n1, 10.0),
+        ("oka_n2", e.oka_n2, 10.0),
+        ("oka_hv", e.oka_hv, 100.0),
+        ("oka_k2", e.oka_k2, 10.0),
+        ("oka_k3", e.oka_k3, 10.0),
+    ] {
+        range(&format!("process.erosion.{k}"), v, 0.0, hi, "")?;
+    }
+    positive("process.erosion.oka_v_ref", e.oka_v_ref, 1e4, "m/s")?;
+    positive("process.erosion.oka_d_ref", e.oka_d_ref, 1.0, "m")?;
+    positive("process.erosion.grain_diameter", e.grain_diameter, 1.0, "m")?;
     let c = &p.cohesion;
     range("process.cohesion.interval", c.interval, 0.0, 1e6, "s")?;
     positive("process.cohesion.tensile_strength", c.tensile_strength, 1e9, "Pa")?;
@@ -343,6 +359,7 @@ fn check_target(key: &str, t: &TargetParams, names: &mut Vec<String>) -> Check {
         }
     }
     range(&format!("{key}.splat_radius"), t.splat_radius, 0.0, t.size[0].min(t.size[1]) / 2.0, "m")?;
+    range(&format!("{key}.coating"), t.coating, 0.0, 1.0, "m")?;
     let cells =
         t.splat_radius / (t.size[0] / f64::from(t.resolution[0])).min(t.size[1] / f64::from(t.resolution[1]));
     if cells > 32.0 {
