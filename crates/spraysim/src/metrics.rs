@@ -27,6 +27,81 @@ pub struct Tally {
     pub released_expired: Amount,
 }
 
+/// Running statistics of one path quantity and the samples outside its window.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Gauge {
+    n: u64,
+    sum: f64,
+    min: f64,
+    max: f64,
+    outside: u64,
+}
+
+impl Gauge {
+    /// Adds a sample and whether it lies inside the recommended window.
+    pub fn add(&mut self, x: f64, inside: bool) {
+        if self.n == 0 {
+            (self.min, self.max) = (x, x);
+        }
+        self.n += 1;
+        self.sum += x;
+        self.min = self.min.min(x);
+        self.max = self.max.max(x);
+        self.outside += u64::from(!inside);
+    }
+
+    fn report(&self, samples: u64) -> Option<Range> {
+        (self.n > 0).then(|| Range {
+            min: self.min,
+            mean: self.sum / self.n as f64,
+            max: self.max,
+            outside_share: (self.outside + samples - self.n) as f64 / samples as f64,
+        })
+    }
+}
+
+/// Spraying-time statistics of the nozzle's path.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PathTally {
+    /// Steps during which the nozzle sprayed.
+    pub samples: u64,
+    /// Distance along the axis to the first substrate face, m.
+    pub standoff: Gauge,
+    /// Angle between the axis and that face's normal, degrees.
+    pub angle: Gauge,
+    /// Travel speed, m/s.
+    pub speed: Gauge,
+}
+
+/// Minimum, mean and maximum of a path quantity over the spraying time, and the share of that
+/// time spent outside the recommended window (or with no substrate in front of the nozzle).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Range {
+    /// Smallest value.
+    pub min: f64,
+    /// Mean value.
+    pub mean: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Share of spraying time outside the window, 0..1.
+    pub outside_share: f64,
+}
+
+/// Process quality along the nozzle's path (see `[process.window]`).
+#[derive(Clone, Debug, Serialize)]
+pub struct PathMetrics {
+    /// Time spent spraying, s.
+    pub spraying_time: f64,
+    /// Share of spraying time with no substrate face along the spray axis, 0..1.
+    pub off_target_share: f64,
+    /// Standoff to the substrate along the spray axis, m.
+    pub standoff: Option<Range>,
+    /// Angle of the spray axis to the substrate's normal (0: square on), degrees.
+    pub angle: Option<Range>,
+    /// Travel speed of the nozzle, m/s.
+    pub speed: Option<Range>,
+}
+
 /// One cohesive failure: a region of a layer that fell off.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FailureEvent {
@@ -217,6 +292,8 @@ pub struct Metrics {
     pub failures: FailureMetrics,
     /// Where the emitted volume is.
     pub volume_balance: VolumeBalance,
+    /// Process quality along the nozzle's path.
+    pub path: PathMetrics,
 }
 
 fn ratio(a: f64, b: f64) -> Option<f64> {
@@ -225,7 +302,12 @@ fn ratio(a: f64, b: f64) -> Option<f64> {
 
 impl Metrics {
     /// Gathers the metrics of a simulation's current state.
-    pub(crate) fn collect(sim: &Simulation, tally: &Tally, failures: &[FailureEvent]) -> Metrics {
+    pub(crate) fn collect(
+        sim: &Simulation,
+        tally: &Tally,
+        failures: &[FailureEvent],
+        path: &PathTally,
+    ) -> Metrics {
         let (targets, obstacles, scenario) = (sim.targets(), sim.obstacles(), sim.scenario());
         let swarm = sim.swarm();
         let (mut in_flight, mut released_in_flight) = (Amount::default(), Amount::default());
@@ -323,6 +405,17 @@ impl Metrics {
                 .collect(),
             failures: FailureMetrics { events: failures.to_vec(), released: tally.released, released_fates },
             volume_balance: VolumeBalance { residual, ..balance },
+            path: PathMetrics {
+                spraying_time: path.samples as f64 * scenario.simulation.dt,
+                off_target_share: if path.samples > 0 {
+                    (path.samples - path.standoff.n) as f64 / path.samples as f64
+                } else {
+                    0.0
+                },
+                standoff: path.standoff.report(path.samples),
+                angle: path.angle.report(path.samples),
+                speed: path.speed.report(path.samples.max(1)),
+            },
         }
     }
 }

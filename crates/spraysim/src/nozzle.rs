@@ -82,6 +82,17 @@ impl NozzlePath {
         };
         (NozzleFrame::new(pos, axis, self.roll), spray)
     }
+
+    /// The nozzle's velocity at time `t` (s), m/s: constant along each leg between waypoints,
+    /// zero before the first and after the last.
+    pub fn velocity(&self, t: f64) -> DVec3 {
+        let w = &self.waypoints;
+        let i = w.partition_point(|p| p.time <= t);
+        if i == 0 || i == w.len() {
+            return DVec3::ZERO;
+        }
+        (w[i].position - w[i - 1].position) / (w[i].time - w[i - 1].time)
+    }
 }
 
 /// Spherical interpolation between unit vectors that are not opposite.

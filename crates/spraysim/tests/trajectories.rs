@@ -166,3 +166,80 @@ fn bad_tool_paths_name_the_file_line_and_column() {
         assert!(err.contains(expect), "{err}");
     }
 }
+
+#[test]
+fn path_metrics_report_standoff_angle_and_speed_against_the_window() {
+    let mut sim = Simulation::new(&Scenario::default_scene()).expect("valid");
+    sim.run(|_| {});
+    let p = sim.metrics().path;
+    let standoff = p.standoff.expect("a wall ahead");
+    assert!((standoff.min - 1.0).abs() < 1e-12 && (standoff.max - 1.0).abs() < 1e-12);
+    assert_eq!(standoff.outside_share, 0.0, "1 m is inside shotcrete's 1–2 m window");
+    assert!(p.angle.expect("a wall ahead").max < 1e-6);
+    assert_eq!(p.speed.expect("sampled").max, 0.0);
+    assert!((p.spraying_time - 2.0).abs() < 1e-9);
+
+    // Tilted 30° off square at 0.6 m: both outside the shotcrete window.
+    let mut sc = Scenario::default_scene();
+    let a = 30f64.to_radians();
+    sc.nozzle.position = [-0.6 * a.cos(), 0.6 * a.sin(), 1.0];
+    sc.nozzle.axis = [a.cos(), -a.sin(), 0.0];
+    sc.simulation.duration = 0.1;
+    let mut sim = Simulation::new(&sc).expect("valid");
+    sim.run(|_| {});
+    let p = sim.metrics().path;
+    let (s, g) = (p.standoff.expect("wall"), p.angle.expect("wall"));
+    assert!((s.mean - 0.6).abs() < 1e-9 && s.outside_share == 1.0);
+    assert!((g.mean - 30.0).abs() < 1e-9 && g.outside_share == 1.0);
+}
+
+#[test]
+fn the_nozzle_velocity_carries_over_to_the_particles_when_asked() {
+    let centroid_y = |carry: bool| {
+        let text = format!(
+            r#"
+            [simulation]
+            duration = 0.3
+            gravity = [0.0, 0.0, 0.0]
+            [process]
+            preset = "painting"
+            [emitter]
+            shape = "point"
+            cone_angle = 0.0
+            speed = [20.0, 20.0]
+            [nozzle]
+            add_velocity = {carry}
+            [[nozzle.waypoints]]
+            time = 0.0
+            position = [-1.0, -0.25, 1.0]
+            axis = [1.0, 0.0, 0.0]
+            [[nozzle.waypoints]]
+            time = 0.1
+            position = [-1.0, 0.25, 1.0]
+            axis = [1.0, 0.0, 0.0]
+            spray = false
+            [[target]]
+            name = "panel"
+            center = [0.0, 0.0, 1.0]
+            normal = [-1.0, 0.0, 0.0]
+            up = [0.0, 0.0, 1.0]
+            size = [1.0, 1.0]
+            resolution = [100, 100]
+            "#
+        );
+        let sc = Scenario::from_toml(&text, "carry").unwrap_or_else(|e| panic!("{e}"));
+        let mut sim = Simulation::new(&sc).expect("valid");
+        sim.run(|_| {});
+        let f = &sim.targets()[0].field;
+        let (mut m, mut my) = (0.0, 0.0);
+        for (c, &t) in f.thickness().iter().enumerate() {
+            let (u, _) = f.cell_center(c as u32);
+            m += t;
+            my += t * -u; // right = −y
+        }
+        my / m
+    };
+    // The nozzle moves at 5 m/s along +y; a 1 m flight at 20 m/s takes 0.05 s: 0.25 m further.
+    let shift = centroid_y(true) - centroid_y(false);
+    assert!((shift - 0.25).abs() < 0.011, "shift {shift}");
+}

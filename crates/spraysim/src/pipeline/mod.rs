@@ -18,9 +18,10 @@ use crate::collision::{Aabb, Scene, SurfaceKind};
 use crate::emitter::Emitter;
 use crate::impact::ImpactModel;
 use crate::integrator::Motion;
-use crate::metrics::{FailureEvent, Metrics, Tally};
+use crate::metrics::{FailureEvent, Metrics, PathTally, Tally};
 use crate::nozzle::NozzlePath;
 use crate::rng::StreamKey;
+use crate::scenario::Role;
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{Swarm, flags};
 use crate::target::{Obstacle, Target};
@@ -91,6 +92,7 @@ pub struct Simulation {
     /// Steps between cohesion analyses (0: off).
     cohesion_every: u64,
     failures: Vec<FailureEvent>,
+    path: PathTally,
     pool: Option<rayon::ThreadPool>,
 }
 
@@ -172,7 +174,7 @@ impl Simulation {
 
     /// The metrics as of now.
     pub fn metrics(&self) -> Metrics {
-        Metrics::collect(self, &self.tally, &self.failures)
+        Metrics::collect(self, &self.tally, &self.failures, &self.path)
     }
 
     /// Runs steps until the duration is reached, calling `progress` after each.
@@ -204,12 +206,18 @@ impl Simulation {
         if !spraying {
             return;
         }
+        let nozzle_velocity = self.nozzle.velocity(self.time());
+        self.record_path(&frame, nozzle_velocity);
+        let carried = if self.scenario.nozzle.add_velocity { nozzle_velocity } else { DVec3::ZERO };
         let n = self.emitter.spawn_count(self.scenario.simulation.dt);
         let volume = self.emitter.particle_volume as f32;
         let (emitter, key, first) = (&self.emitter, self.key, self.next_id);
         // Each particle samples from its own stream, so the split over threads cannot change
         // the result; small batches are not worth the dispatch.
-        let sample = |id: u64| emitter.sample(&frame, &mut key.stream(id, 0));
+        let sample = |id: u64| {
+            let (pos, vel) = emitter.sample(&frame, &mut key.stream(id, 0));
+            (pos, vel + carried)
+        };
         let born: Vec<_> = if n >= EMIT_PARALLEL {
             let work = || (first..first + n).into_par_iter().map(sample).collect();
             match &self.pool {
@@ -225,6 +233,31 @@ impl Simulation {
             self.tally.emitted.add(f64::from(volume));
         }
         self.next_id += n;
+    }
+
+    /// Path-quality sample of a spraying step: standoff and angle to the nearest substrate face
+    /// along the spray axis, and travel speed, against the process's window.
+    fn record_path(&mut self, frame: &crate::nozzle::NozzleFrame, velocity: DVec3) {
+        let w = &self.scenario.process.window;
+        let reach =
+            DVec3::from_array(self.scenario.domain.max).distance(DVec3::from_array(self.scenario.domain.min));
+        let far = frame.position + frame.axis * reach;
+        let nearest = self
+            .targets
+            .iter()
+            .filter(|t| t.role == Role::Substrate)
+            .filter_map(|t| t.face.intersect(frame.position, far))
+            .min_by(|a, b| a.t.total_cmp(&b.t));
+        let p = &mut self.path;
+        p.samples += 1;
+        if let Some(hit) = nearest {
+            let standoff = hit.t * reach;
+            let angle = (-frame.axis.dot(hit.normal)).clamp(-1.0, 1.0).acos().to_degrees();
+            p.standoff.add(standoff, (w.standoff[0]..=w.standoff[1]).contains(&standoff));
+            p.angle.add(angle, angle <= w.max_angle);
+        }
+        let speed = velocity.length();
+        p.speed.add(speed, (w.speed[0]..=w.speed[1]).contains(&speed));
     }
 
     /// Keeps the broad phase aware of every layer: when a target's layer outgrows the reach it

@@ -157,6 +157,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
             0
         },
         failures: Vec::new(),
+        path: Default::default(),
         pool: None,
     }
 }

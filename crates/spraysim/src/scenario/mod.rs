@@ -86,6 +86,7 @@ impl ScenarioFile {
         process.impact.apply(&p.impact);
         process.cohesion.apply(&p.cohesion);
         process.erosion.apply(&p.erosion);
+        process.window.apply(&p.window);
         process.sag_threshold = p.sag_threshold.unwrap_or(process.sag_threshold);
         let mut emitter = preset.emitter();
         emitter.apply(&self.emitter);

@@ -241,6 +241,19 @@ overridable! {
     }
 }
 
+overridable! {
+    /// `[process.window]`: the recommended working window of the nozzle; the metrics report the
+    /// share of spraying time outside it.
+    pub struct WindowParams / WindowOverride {
+        /// Standoff `[min, max]`: distance along the spray axis to the first surface, m.
+        pub standoff: [f64; 2],
+        /// Largest angle between the spray axis and the surface normal (0: square on), degrees.
+        pub max_angle: f64,
+        /// Travel speed `[min, max]` of the nozzle, m/s.
+        pub speed: [f64; 2],
+    }
+}
+
 /// `[process]`: the material and its flight.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -263,6 +276,8 @@ pub struct ProcessParams {
     pub cohesion: CohesionParams,
     /// Erosion of targets by impacts.
     pub erosion: ErosionParams,
+    /// Recommended working window of the nozzle, for the path-quality metrics.
+    pub window: WindowParams,
     /// Wet-film thickness above which a film sags on a vertical face, m (on a face tilted by
     /// β from horizontal, when t · sin β exceeds it); 0 switches sag flagging off.
     pub sag_threshold: f64,
@@ -295,6 +310,9 @@ pub struct ProcessOverride {
     pub erosion: ErosionOverride,
     /// See [`ProcessParams::sag_threshold`].
     pub sag_threshold: Option<f64>,
+    /// See [`ProcessParams::window`].
+    #[serde(default)]
+    pub window: WindowOverride,
 }
 
 overridable! {
@@ -365,6 +383,8 @@ pub struct NozzleParams {
     pub circle_radius: f64,
     /// Revolutions per second of that motion, Hz. Default 0.
     pub circle_frequency: f64,
+    /// Add the nozzle's own velocity to the particles it emits. Default false.
+    pub add_velocity: bool,
     /// Time-stamped poses; position is interpolated linearly, the axis spherically.
     pub waypoints: Vec<WaypointParams>,
     /// A robot tool path to read into `waypoints`: a CSV file (relative to the scenario's
@@ -447,6 +467,7 @@ impl Default for NozzleParams {
             roll: 0.0,
             circle_radius: 0.0,
             circle_frequency: 0.0,
+            add_velocity: false,
             waypoints: Vec::new(),
             path_csv: None,
             raster: None,

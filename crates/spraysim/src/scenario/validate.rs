@@ -294,6 +294,17 @@ fn check_process(p: &ProcessParams) -> Check {
     positive("process.max_lifetime", p.max_lifetime, 1e6, "s")?;
     range("process.coverage_threshold", p.coverage_threshold, 0.0, 10.0, "m")?;
     range("process.sag_threshold", p.sag_threshold, 0.0, 1.0, "m")?;
+    let w = &p.window;
+    for (key, pair, hi) in
+        [("process.window.standoff", w.standoff, 1e3), ("process.window.speed", w.speed, 1e3)]
+    {
+        range(key, pair[0], 0.0, hi, "")?;
+        range(key, pair[1], 0.0, hi, "")?;
+        if pair[0] > pair[1] {
+            return Err(bad(key, format!("must be [min, max] with min ≤ max, got {pair:?}")));
+        }
+    }
+    range("process.window.max_angle", w.max_angle, 0.0, 90.0, "degrees")?;
     let e = &p.erosion;
     range("process.erosion.finnie_k", e.finnie_k, 0.0, 1.0, "m³/J")?;
     range("process.erosion.oka_e90", e.oka_e90, 0.0, 1.0, "m³/kg")?;
