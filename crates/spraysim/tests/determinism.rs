@@ -11,6 +11,8 @@ fn busy_scene(seed: u64) -> Scenario {
         [simulation]
         duration = 0.6
         seed = {seed}
+        [output]
+        impact_log = 0.3
         [emitter]
         spawn_rate = 40000.0
         cone_angle = 18.0
@@ -63,7 +65,7 @@ fn outputs_are_bit_identical_across_thread_counts_and_runs() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let sc = busy_scene(11);
     let one = outputs(&sc, 1, &tmp.path().join("t1"));
-    assert_eq!(one.len(), 12, "{:?}", one.keys());
+    assert_eq!(one.len(), 13, "{:?}", one.keys());
     for threads in [2, 3, 16] {
         let other = outputs(&sc, threads, &tmp.path().join(format!("t{threads}")));
         assert_eq!(one.keys().collect::<Vec<_>>(), other.keys().collect::<Vec<_>>());

@@ -390,3 +390,35 @@ fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
         assert!((a - b).abs() <= tol, "{name}: Euler {a} vs exact {b} (± {tol})");
     }
 }
+
+#[test]
+fn the_impact_log_samples_the_requested_share_of_impacts() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (share, tol) in [(1.0, 0.0), (0.25, 0.02)] {
+        let mut sc = panel("shotcrete", "");
+        sc.output.impact_log = share;
+        sc.simulation.duration = 0.5;
+        let sim = run(&sc);
+        let m = sim.metrics();
+        let hits: u64 =
+            m.targets.iter().map(|t| t.hits).sum::<u64>() + m.obstacles.iter().map(|o| o.hits).sum::<u64>();
+        let logged = sim.impact_log();
+        let got = logged.len() as f64 / hits as f64;
+        assert!((got - share).abs() <= tol, "logged {got} of the impacts, asked {share}");
+        if share == 1.0 {
+            let stuck = logged.iter().filter(|i| i.stuck).count() as u64;
+            assert_eq!(stuck, m.targets.iter().map(|t| t.stuck.count + t.stuck_on_back.count).sum::<u64>());
+            // Impacts lie on their surfaces, with velocities against the normal.
+            assert!(logged.iter().all(|i| i.velocity.dot(i.normal) <= 0.0 && i.time <= m.time));
+            let files = spraysim::io::write_outputs(&sim, &tmp.path().join("log")).expect("written");
+            let csv = std::fs::read_to_string(tmp.path().join("log/impacts.csv")).expect("impact log");
+            assert_eq!(csv.lines().count(), logged.len() + 1);
+            assert!(
+                csv.starts_with(
+                    "time_s,x_m,y_m,z_m,nx,ny,nz,vx_m_s,vy_m_s,vz_m_s,surface,outcome,eroded_m3\n"
+                )
+            );
+            assert!(csv.contains(",panel,stuck,") && csv.contains(",panel,rebounded,") && files.len() > 5);
+        }
+    }
+}

@@ -96,6 +96,9 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
                   # Run it again with `spraysim run scenario.resolved.toml` for the same result.\n\n";
     put("scenario.resolved.toml".into(), format!("{header}{}", sc.to_toml()).as_bytes())?;
 
+    if sc.output.impact_log > 0.0 {
+        put("impacts.csv".into(), impact_csv(sim).as_bytes())?;
+    }
     for t in sim.targets() {
         let (rows, cols) = (t.field.rows(), t.field.cols());
         if sc.output.arrays {
@@ -149,6 +152,37 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
         }
     }
     Ok(names)
+}
+
+/// The impact log as CSV: one sampled impact a row.
+fn impact_csv(sim: &Simulation) -> String {
+    use crate::collision::SurfaceKind;
+    let name = |s: u32| match sim.scene().surfaces()[s as usize].kind {
+        SurfaceKind::Target(i) => sim.targets()[i].name.as_str(),
+        SurfaceKind::Obstacle(i) => sim.obstacles()[i].name.as_str(),
+    };
+    let mut out =
+        String::from("time_s,x_m,y_m,z_m,nx,ny,nz,vx_m_s,vy_m_s,vz_m_s,surface,outcome,eroded_m3\n");
+    for i in sim.impact_log() {
+        let (p, n, v) = (i.position, i.normal, i.velocity);
+        let outcome = if i.stuck { "stuck" } else { "rebounded" };
+        out.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{outcome},{}\n",
+            i.time,
+            p.x,
+            p.y,
+            p.z,
+            n.x,
+            n.y,
+            n.z,
+            v.x,
+            v.y,
+            v.z,
+            name(i.surface),
+            i.eroded
+        ));
+    }
+    out
 }
 
 fn npy_bytes<T: ndarray_npy::WritableElement>(

@@ -27,6 +27,7 @@ use crate::swarm::{Swarm, flags};
 use crate::target::{Obstacle, Target};
 use glam::DVec3;
 use rayon::prelude::*;
+pub use update::LoggedImpact;
 use update::{SwarmChunk, UpdateContext, record};
 
 /// Distance in front of the face at which failed material is released, m: clear of the face
@@ -93,6 +94,7 @@ pub struct Simulation {
     cohesion_every: u64,
     failures: Vec<FailureEvent>,
     path: PathTally,
+    impact_log: Vec<LoggedImpact>,
     pool: Option<rayon::ThreadPool>,
 }
 
@@ -170,6 +172,11 @@ impl Simulation {
     /// The obstacles and their tallies.
     pub fn obstacles(&self) -> &[Obstacle] {
         &self.obstacles
+    }
+
+    /// The sampled impacts so far, in the order they were applied (see `[output] impact_log`).
+    pub fn impact_log(&self) -> &[LoggedImpact] {
+        &self.impact_log
     }
 
     /// The metrics as of now.
@@ -333,6 +340,9 @@ impl Simulation {
             max_lifetime: self.scenario.process.max_lifetime,
             erosion: &self.scenario.process.erosion,
             density: self.scenario.process.density,
+            time: self.time(),
+            log_fraction: self.scenario.output.impact_log,
+            log_salt: self.scenario.simulation.seed,
         };
         let s = &mut self.swarm;
         self.particle_steps += (s.len() - self.retired) as u64;
@@ -419,6 +429,7 @@ impl Simulation {
             t.released_left = t.released_left + out.released_left;
             t.released_expired = t.released_expired + out.released_expired;
             self.retired += out.retired;
+            self.impact_log.extend(out.log);
         }
         debug_assert_eq!(self.retired, self.swarm.flags.iter().filter(|&&f| f & flags::ALIVE == 0).count());
     }

@@ -158,6 +158,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         },
         failures: Vec::new(),
         path: Default::default(),
+        impact_log: Vec::new(),
         pool: None,
     }
 }

@@ -47,6 +47,37 @@ pub(crate) struct ChunkOutcome {
     /// Released material that expired.
     pub released_expired: Amount,
     pub retired: usize,
+    /// Sampled impacts for the impact log.
+    pub log: Vec<LoggedImpact>,
+}
+
+/// One sampled impact, as the impact log writes it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoggedImpact {
+    /// Time of the impact, s.
+    pub time: f64,
+    /// Where, m.
+    pub position: DVec3,
+    /// Unit surface normal, facing the particle.
+    pub normal: DVec3,
+    /// Incoming velocity, m/s.
+    pub velocity: DVec3,
+    /// Index of the surface struck (targets first, then obstacles).
+    pub surface: u32,
+    /// Whether the particle stuck (else it rebounded).
+    pub stuck: bool,
+    /// Volume eroded from the target, m³.
+    pub eroded: f32,
+}
+
+/// Whether impact number `impact` of particle `id` is logged: a hash of the pair against the
+/// sampled fraction, so the sample is the same whatever the threads.
+fn sampled(salt: u64, id: u32, impact: u16, fraction: f64) -> bool {
+    let mut z = salt ^ (u64::from(id) << 16 | u64::from(impact)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    ((z >> 11) as f64 / (1u64 << 53) as f64) < fraction
 }
 
 /// Read-only inputs of the update stage.
@@ -62,6 +93,11 @@ pub(crate) struct UpdateContext<'a> {
     pub max_lifetime: f64,
     pub erosion: &'a ErosionParams,
     pub density: f64,
+    /// Time at the start of the step, s.
+    pub time: f64,
+    /// Share of impacts logged (0: none) and the salt of the sampling hash.
+    pub log_fraction: f64,
+    pub log_salt: u64,
 }
 
 /// Mutable views of one chunk of the swarm's arrays.
@@ -110,7 +146,7 @@ impl UpdateContext<'_> {
             impacts: chunk.impacts[i],
             flags: chunk.flags[i],
         };
-        let stuck = self.advance(&mut p, &mut out.impacts);
+        let stuck = self.advance(&mut p, out);
         let volume = f64::from(p.volume);
         let released = p.flags & flags::RELEASED != 0;
         if !stuck {
@@ -158,6 +194,14 @@ impl UpdateContext<'_> {
                     Integrator::Exact => v + self.motion.gravity * (s * dt),
                     Integrator::Euler | Integrator::SemiImplicitEuler => v.lerp(v1, s),
                 };
+                // Entering a taller cell from the side meets the side of that step, not the
+                // smoothed slope: its normal opposes the motion along the face.
+                let normal = if v_in.dot(normal) < 0.0 {
+                    normal
+                } else {
+                    let n = target.face.normal;
+                    (-(v_in - n * v_in.dot(n))).try_normalize().unwrap_or(n)
+                };
                 hit = Some((i, Hit { t: s, point, normal }, v_in));
             }
         }
@@ -184,7 +228,7 @@ impl UpdateContext<'_> {
 
     /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true
     /// if it stuck (and clears its `ALIVE` bit).
-    fn advance(&self, p: &mut Particle, records: &mut Vec<ImpactRecord>) -> bool {
+    fn advance(&self, p: &mut Particle, out: &mut ChunkOutcome) -> bool {
         let mut x = p.pos;
         let mut v = p.vel;
         let mut remaining = self.dt;
@@ -198,26 +242,26 @@ impl UpdateContext<'_> {
             p.impacts = p.impacts.saturating_add(1);
             let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
             let surface = &self.scene.surfaces()[s];
-            // The layer under a target impact (for the cushion effect); none elsewhere.
-            let layer = match surface.kind {
+            // An impact on the front of a target: the target and the cell struck.
+            let front = match surface.kind {
                 SurfaceKind::Target(t) if hit.normal.dot(self.targets[t].face.normal) > 0.0 => {
                     let target = &self.targets[t];
                     let (u, w) = target.face.local(hit.point);
-                    Some(target.field.thickness()[target.field.cell_at(u, w) as usize])
+                    Some((target, target.field.cell_at(u, w)))
                 }
                 _ => None,
             };
+            // The layer under the impact (for the cushion effect); none off the targets' fronts.
+            let layer = front.map(|(target, cell)| target.field.thickness()[cell as usize]);
             let outcome = self.models[surface.impact].resolve(v_in, hit.normal, layer, &mut rng);
             let mut rec =
                 ImpactRecord { surface: s as u32, cell: u32::MAX, volume: p.volume, eroded: 0.0, flags: 0 };
             if p.flags & flags::RELEASED != 0 {
                 rec.flags |= record::RELEASED;
             }
-            if let SurfaceKind::Target(t) = surface.kind {
-                let target = &self.targets[t];
-                if hit.normal.dot(target.face.normal) > 0.0 {
-                    let (u, w) = target.face.local(hit.point);
-                    rec.cell = target.field.cell_at(u, w);
+            match (surface.kind, front) {
+                (SurfaceKind::Target(_), Some((target, cell))) => {
+                    rec.cell = cell;
                     if !target.erosion.is_empty() {
                         let speed = v_in.length();
                         // γ: the impact angle from the surface.
@@ -230,21 +274,32 @@ impl UpdateContext<'_> {
                         p.flags |= flags::HIT_SUBSTRATE;
                         rec.flags |= record::FIRST_SUBSTRATE;
                     }
-                } else {
-                    rec.flags |= record::BACK;
                 }
+                (SurfaceKind::Target(_), None) => rec.flags |= record::BACK,
+                (SurfaceKind::Obstacle(_), _) => {}
+            }
+            if self.log_fraction > 0.0 && sampled(self.log_salt, p.id, p.impacts, self.log_fraction) {
+                out.log.push(LoggedImpact {
+                    time: self.time + (self.dt - remaining) + hit.t * remaining,
+                    position: hit.point,
+                    normal: hit.normal,
+                    velocity: v_in,
+                    surface: s as u32,
+                    stuck: outcome == Outcome::Stick,
+                    eroded: rec.eroded,
+                });
             }
             match outcome {
                 Outcome::Stick => {
                     rec.flags |= record::STUCK;
-                    records.push(rec);
+                    out.impacts.push(rec);
                     p.pos = hit.point;
                     p.vel = DVec3::ZERO;
                     p.flags &= !flags::ALIVE;
                     return true;
                 }
                 Outcome::Rebound(v_out) => {
-                    records.push(rec);
+                    out.impacts.push(rec);
                     x = hit.point + hit.normal * SURFACE_OFFSET;
                     v = v_out;
                     remaining *= 1.0 - hit.t;

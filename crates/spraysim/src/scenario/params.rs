@@ -578,11 +578,20 @@ pub struct OutputParams {
     pub images: bool,
     /// Write `.npy` arrays. Default true.
     pub arrays: bool,
+    /// Share of impacts written to `impacts.csv`, 0..1 (sampled by a hash of particle and
+    /// impact number). Default 0: no log.
+    pub impact_log: f64,
 }
 
 impl Default for OutputParams {
     fn default() -> Self {
-        OutputParams { directory: "out".into(), colormap: Colormap::Viridis, images: true, arrays: true }
+        OutputParams {
+            directory: "out".into(),
+            colormap: Colormap::Viridis,
+            images: true,
+            arrays: true,
+            impact_log: 0.0,
+        }
     }
 }
 

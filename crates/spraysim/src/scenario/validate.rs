@@ -104,6 +104,7 @@ impl Scenario {
         if (0..3).any(|i| self.domain.min[i] >= self.domain.max[i]) {
             return Err(bad("domain.max", "must be greater than domain.min along every axis"));
         }
+        range("output.impact_log", self.output.impact_log, 0.0, 1.0, "")?;
         if self.output.directory.trim().is_empty() {
             return Err(bad("output.directory", "must not be empty"));
         }
