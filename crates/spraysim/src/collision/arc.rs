@@ -147,6 +147,7 @@ impl Shape {
             Shape::Sphere(s) => sphere_hit(arc, s, self),
             Shape::Box(b) => box_hit(arc, b, self),
             Shape::Cylinder(c) => cylinder_hit(arc, c, self),
+            Shape::Triangle(t) => plane_hit(arc, t.corners[0], t.normal, |q| t.covers(q)),
         }
     }
 }

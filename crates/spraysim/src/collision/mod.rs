@@ -14,7 +14,7 @@ mod primitives;
 mod scene;
 
 pub use arc::{Arc, roots};
-pub use primitives::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere};
+pub use primitives::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle};
 pub use scene::{Scene, SurfaceKind, SurfaceRef};
 
 use glam::DVec3;

@@ -104,6 +104,43 @@ pub struct Cylinder {
     pub radius: f64,
 }
 
+/// Triangle of a mesh; two-sided.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// Corners, m.
+    pub corners: [DVec3; 3],
+    /// Unit normal (right-handed in the corner order).
+    pub normal: DVec3,
+}
+
+impl Triangle {
+    /// A triangle from its corners, or `None` if they are (nearly) collinear.
+    pub fn new(a: DVec3, b: DVec3, c: DVec3) -> Option<Triangle> {
+        let n = (b - a).cross(c - a);
+        let scale = (b - a).length_squared().max((c - a).length_squared());
+        (n.length_squared() > 1e-24 * scale * scale)
+            .then(|| Triangle { corners: [a, b, c], normal: n.normalize() })
+    }
+
+    /// True if `q`, a point in the triangle's plane, lies inside it or on its edges.
+    #[inline]
+    pub fn covers(&self, q: DVec3) -> bool {
+        let [a, b, c] = self.corners;
+        let n = self.normal;
+        (b - a).cross(q - a).dot(n) >= 0.0
+            && (c - b).cross(q - b).dot(n) >= 0.0
+            && (a - c).cross(q - c).dot(n) >= 0.0
+    }
+
+    /// Earliest hit of the segment `p0 → p1`.
+    #[inline]
+    pub fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> {
+        let (t, d0) = plane_crossing(self.corners[0], self.normal, p0, p1)?;
+        let point = p0.lerp(p1, t);
+        self.covers(point).then(|| Hit { t, point, normal: facing(self.normal, d0) })
+    }
+}
+
 /// Any collision primitive.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
@@ -119,6 +156,8 @@ pub enum Shape {
     Box(OrientedBox),
     /// Capped cylinder.
     Cylinder(Cylinder),
+    /// Mesh triangle.
+    Triangle(Triangle),
 }
 
 impl Shape {
@@ -132,6 +171,7 @@ impl Shape {
             Shape::Sphere(s) => s.intersect(p0, p1),
             Shape::Box(s) => s.intersect(p0, p1),
             Shape::Cylinder(s) => s.intersect(p0, p1),
+            Shape::Triangle(s) => s.intersect(p0, p1),
         }
     }
 
@@ -157,6 +197,10 @@ impl Shape {
                     + (b.axes[2] * b.half_extents.z).abs();
                 Some(Aabb { min: b.center - e, max: b.center + e })
             }
+            Shape::Triangle(t) => {
+                let [a, b, c] = t.corners;
+                Some(Aabb { min: a.min(b).min(c), max: a.max(b).max(c) })
+            }
             Shape::Cylinder(c) => {
                 let axis = (c.b - c.a).normalize_or_zero();
                 let e = (DVec3::ONE - axis * axis).max(DVec3::ZERO).map(f64::sqrt) * c.radius;
@@ -168,7 +212,7 @@ impl Shape {
     /// True if `p` lies strictly inside a closed solid (always false for thin surfaces).
     pub fn contains(&self, p: DVec3) -> bool {
         match self {
-            Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) => false,
+            Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) | Shape::Triangle(_) => false,
             Shape::Sphere(s) => (p - s.center).length_squared() < s.radius * s.radius,
             Shape::Box(b) => {
                 let d = p - b.center;

@@ -4,6 +4,7 @@
 //! it has been written.
 
 pub mod heatmap;
+pub mod mesh;
 
 use crate::Simulation;
 use crate::scenario::Scenario;

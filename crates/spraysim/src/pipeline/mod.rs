@@ -47,6 +47,9 @@ pub enum SetupError {
     /// The scenario is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
+    /// A mesh file could not be read.
+    #[error(transparent)]
+    Mesh(#[from] crate::io::mesh::MeshError),
     /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
     Threads {
@@ -106,7 +109,7 @@ impl Simulation {
             key: inv.key,
             message: inv.message,
         })?;
-        Ok(setup::build(scenario))
+        setup::build(scenario)
     }
 
     /// Runs the update stage on at most `threads` threads (0: rayon's global pool, one thread

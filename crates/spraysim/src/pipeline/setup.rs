@@ -1,6 +1,6 @@
 //! Turns a validated scenario into the simulation's data sets (units converted to SI radians).
 
-use super::Simulation;
+use super::{SetupError, Simulation};
 use crate::collision::{
     Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Scene, Shape, Sphere, SurfaceKind, SurfaceRef,
 };
@@ -21,7 +21,7 @@ fn v3(a: [f64; 3]) -> DVec3 {
 }
 
 /// Builds the simulation; `scenario` must have passed validation.
-pub(super) fn build(scenario: &Scenario) -> Simulation {
+pub(super) fn build(scenario: &Scenario) -> Result<Simulation, SetupError> {
     let sc = scenario;
     let mut models = vec![impact_model(&sc.process.impact)];
     let mut model_for = |over: &ImpactOverride| -> usize {
@@ -64,12 +64,18 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
     }
     let mut obstacles = Vec::new();
     for (i, o) in sc.obstacles.iter().enumerate() {
-        surfaces.push(SurfaceRef {
-            shape: obstacle_shape(o),
-            kind: SurfaceKind::Obstacle(i),
-            impact: model_for(&o.impact),
-            layer: 0.0,
-        });
+        let impact = model_for(&o.impact);
+        let kind = SurfaceKind::Obstacle(i);
+        match o.mesh() {
+            // Every triangle is a surface of its own, so the grid indexes them one by one.
+            Some(mesh) => surfaces.extend(mesh?.into_iter().map(|t| SurfaceRef {
+                shape: Shape::Triangle(t),
+                kind,
+                impact,
+                layer: 0.0,
+            })),
+            None => surfaces.push(SurfaceRef { shape: obstacle_shape(o), kind, impact, layer: 0.0 }),
+        }
         obstacles.push(Obstacle {
             name: o.name.clone(),
             hits: 0,
@@ -133,7 +139,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
     let s = &sc.simulation;
     // Whole steps covering the duration; the tolerance absorbs rounding of duration / dt.
     let total_steps = ((s.duration / s.dt) - 1e-9).ceil().max(1.0) as u64;
-    Simulation {
+    Ok(Simulation {
         scenario: sc.clone(),
         step: 0,
         total_steps,
@@ -160,7 +166,7 @@ pub(super) fn build(scenario: &Scenario) -> Simulation {
         path: Default::default(),
         impact_log: Vec::new(),
         pool: None,
-    }
+    })
 }
 
 /// Impact parameters in file units → the impact model in radians.
@@ -181,7 +187,8 @@ pub(crate) fn impact_model(p: &ImpactParams) -> ImpactModel {
     }
 }
 
-/// The collision shape of a validated obstacle (validation guarantees the fields it reads).
+/// The collision shape of a validated obstacle that is not a mesh (validation guarantees the
+/// fields it reads).
 fn obstacle_shape(o: &ObstacleParams) -> Shape {
     let center = v3(o.center.unwrap_or_default());
     let normal = v3(o.normal.unwrap_or([0.0, 0.0, 1.0])).normalize();
@@ -205,7 +212,8 @@ fn obstacle_shape(o: &ObstacleParams) -> Shape {
                 half_extents: DVec3::new(dim(0), dim(1), dim(2)) / 2.0,
             })
         }
-        ObstacleShape::Cylinder => Shape::Cylinder(Cylinder {
+        // A mesh never gets here: `ObstacleParams::mesh` expands it into triangles.
+        ObstacleShape::Cylinder | ObstacleShape::Mesh => Shape::Cylinder(Cylinder {
             a: v3(o.start.unwrap_or_default()),
             b: v3(o.end.unwrap_or_default()),
             radius,

@@ -175,11 +175,29 @@ impl Scenario {
             }
             file.nozzle.waypoints = tool_path::read(&base.join(csv))?;
         }
+        for o in &mut file.obstacles {
+            if let Some(f) = &o.file {
+                o.file = Some(base.join(f).display().to_string());
+            }
+        }
         let scenario = file.resolve();
         scenario.validate().map_err(|inv| {
             let line = locate(text, &inv.key);
             ScenarioError::Invalid { location: location(origin, line), key: inv.key, message: inv.message }
         })?;
+        // Mesh files are read now, so that a bad one is refused before any run.
+        for (i, o) in scenario.obstacles.iter().enumerate() {
+            if let Some(mesh) = o.mesh() {
+                mesh.map_err(|e| {
+                    let key = format!("obstacle[{i}].file");
+                    ScenarioError::Invalid {
+                        location: location(origin, locate(text, &key)),
+                        key,
+                        message: e.to_string(),
+                    }
+                })?;
+            }
+        }
         Ok(scenario)
     }
 

@@ -123,6 +123,8 @@ pub enum ObstacleShape {
     Box,
     /// Capped cylinder (rebar): `start`, `end`, `radius`.
     Cylinder,
+    /// Triangle mesh from an STL or OBJ `file`, optionally `scale`d and moved by `center`.
+    Mesh,
 }
 
 /// `[simulation]`: time stepping.
@@ -545,9 +547,25 @@ pub struct ObstacleParams {
     /// Local y axis of a box (made perpendicular to `x_axis`). Default `[0, 1, 0]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub y_axis: Option<[f64; 3]>,
+    /// Mesh file (`.stl` or `.obj`), relative to the scenario's folder; the resolved scenario
+    /// holds its full path.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// Factor from the mesh file's units to metres (0.001 for millimetres). Default 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
     /// Impact parameters that differ from the process's.
     #[serde(default, skip_serializing_if = "is_default")]
     pub impact: ImpactOverride,
+}
+
+impl ObstacleParams {
+    /// The triangles of a mesh obstacle, placed in the scene (`None` for other shapes).
+    pub fn mesh(&self) -> Option<Result<Vec<crate::collision::Triangle>, crate::io::mesh::MeshError>> {
+        let file = self.file.as_ref().filter(|_| self.shape == ObstacleShape::Mesh)?;
+        let offset = glam::DVec3::from_array(self.center.unwrap_or_default());
+        Some(crate::io::mesh::load(std::path::Path::new(file), self.scale.unwrap_or(1.0), offset))
+    }
 }
 
 fn is_default<T: Default + PartialEq>(t: &T) -> bool {

@@ -386,7 +386,9 @@ fn check_target(key: &str, t: &TargetParams, names: &mut Vec<String>) -> Check {
 fn check_obstacle(key: &str, o: &ObstacleParams, names: &mut Vec<String>) -> Check {
     name(&format!("{key}.name"), &o.name, names)?;
     let shape_name = format!("{:?}", o.shape).to_lowercase();
-    let given: [(&str, bool); 9] = [
+    let given: [(&str, bool); 11] = [
+        ("file", o.file.is_some()),
+        ("scale", o.scale.is_some()),
         ("center", o.center.is_some()),
         ("normal", o.normal.is_some()),
         ("up", o.up.is_some()),
@@ -404,6 +406,7 @@ fn check_obstacle(key: &str, o: &ObstacleParams, names: &mut Vec<String>) -> Che
         ObstacleShape::Sphere => (&["center", "radius"], &[]),
         ObstacleShape::Box => (&["center", "size"], &["x_axis", "y_axis"]),
         ObstacleShape::Cylinder => (&["start", "end", "radius"], &[]),
+        ObstacleShape::Mesh => (&["file"], &["center", "scale"]),
     };
     for (field, present) in given {
         let k = format!("{key}.{field}");
@@ -431,6 +434,9 @@ fn check_obstacle(key: &str, o: &ObstacleParams, names: &mut Vec<String>) -> Che
     let y = DVec3::from_array(o.y_axis.unwrap_or([0.0, 1.0, 0.0]));
     if o.shape == ObstacleShape::Box {
         not_parallel(&format!("{key}.y_axis"), y, x, "x_axis")?;
+    }
+    if let Some(s) = o.scale {
+        positive(&format!("{key}.scale"), s, 1e6, "")?;
     }
     if let Some(r) = o.radius {
         positive(&format!("{key}.radius"), r, 1e3, "m")?;
