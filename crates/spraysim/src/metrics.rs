@@ -25,6 +25,8 @@ pub struct Tally {
     pub released_left: Amount,
     /// Released particles that expired.
     pub released_expired: Amount,
+    /// Of the released material, what dripped off sagging films.
+    pub dripped: Amount,
 }
 
 /// Running statistics of one path quantity and the samples outside its window.
@@ -122,8 +124,10 @@ pub struct FailureEvent {
 pub struct FailureMetrics {
     /// Every failure, in time order.
     pub events: Vec<FailureEvent>,
-    /// Particles released (one per failed cell) and their volume.
+    /// Particles released (one per failed or dripping cell) and their volume.
     pub released: Amount,
+    /// Of those, what dripped off sagging films.
+    pub dripped: Amount,
     /// Where the released particles are now.
     pub released_fates: Fates,
 }
@@ -403,7 +407,12 @@ impl Metrics {
                     received: o.received,
                 })
                 .collect(),
-            failures: FailureMetrics { events: failures.to_vec(), released: tally.released, released_fates },
+            failures: FailureMetrics {
+                events: failures.to_vec(),
+                released: tally.released,
+                dripped: tally.dripped,
+                released_fates,
+            },
             volume_balance: VolumeBalance { residual, ..balance },
             path: PathMetrics {
                 spraying_time: path.samples as f64 * scenario.simulation.dt,

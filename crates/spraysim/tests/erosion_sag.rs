@@ -88,7 +88,7 @@ fn the_coating_goes_first_where_erosion_is_strongest() {
     assert!(m.targets[0].hits_per_cm2 > 0.0);
 }
 
-fn paint(normal: [f64; 3], up: [f64; 3]) -> Metrics {
+fn paint(normal: [f64; 3], up: [f64; 3], extra: &str) -> Metrics {
     let n = glam::DVec3::from_array(normal);
     let nozzle = glam::DVec3::new(0.0, 0.0, 1.0) + n * 0.25;
     let text = format!(
@@ -98,6 +98,7 @@ fn paint(normal: [f64; 3], up: [f64; 3]) -> Metrics {
         gravity = [0.0, 0.0, 0.0]
         [process]
         preset = "painting"
+        {extra}
         [nozzle]
         position = {:?}
         axis = {:?}
@@ -122,11 +123,28 @@ fn paint(normal: [f64; 3], up: [f64; 3]) -> Metrics {
 #[test]
 fn a_thick_wet_film_sags_on_a_wall_but_not_on_a_floor() {
     // Gravity off while spraying, so both films come out the same; only the face's tilt differs.
-    let wall = paint([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
-    let floor = paint([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+    let wall = paint([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], "");
+    let floor = paint([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], "");
     assert!(wall.targets[0].thickness.max > 120e-6, "the film must exceed the threshold somewhere");
     let risk = |m: &Metrics| m.targets[0].sag_risk_fraction.expect("sag on");
     assert!(risk(&wall) > 0.0);
     assert_eq!(risk(&floor), 0.0);
     assert!((wall.targets[0].thickness.max - floor.targets[0].thickness.max).abs() < 1e-12);
+}
+
+#[test]
+fn dripping_caps_the_film_near_the_sag_limit_and_keeps_the_volume() {
+    let wall = paint([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], "drip_interval = 0.05");
+    let floor = paint([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], "drip_interval = 0.05");
+    let dripped = wall.failures.dripped.volume;
+    assert!(dripped > 0.0);
+    assert_eq!(floor.failures.dripped.volume, 0.0, "a floor does not drip");
+    // After the last pass the film exceeds 120 µm by at most what a 0.05 s interval adds.
+    let undripped = paint([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], "");
+    assert!(wall.targets[0].thickness.max < undripped.targets[0].thickness.max);
+    assert!(wall.targets[0].thickness.max < 120e-6 + 0.05 * undripped.targets[0].thickness.max);
+    // Every drop is accounted for.
+    let b = &wall.volume_balance;
+    assert!(b.residual.abs() <= 1e-6 * b.emitted, "{b:?}");
+    assert!((wall.failures.released.volume - dripped).abs() <= 1e-6 * dripped);
 }

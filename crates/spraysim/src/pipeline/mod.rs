@@ -95,6 +95,8 @@ pub struct Simulation {
     particle_steps: u64,
     /// Steps between cohesion analyses (0: off).
     cohesion_every: u64,
+    /// Steps between drip passes (0: off).
+    drip_every: u64,
     failures: Vec<FailureEvent>,
     path: PathTally,
     impact_log: Vec<LoggedImpact>,
@@ -203,6 +205,9 @@ impl Simulation {
         if self.cohesion_every > 0 && (self.step + 1) % self.cohesion_every == 0 {
             self.cohesion();
         }
+        if self.drip_every > 0 && (self.step + 1) % self.drip_every == 0 {
+            self.drip();
+        }
         self.grow_layer_allowances();
         if self.retired > CHUNK && self.retired * 4 > self.swarm.len() {
             self.swarm.compact();
@@ -270,6 +275,28 @@ impl Simulation {
         p.speed.add(speed, (w.speed[0]..=w.speed[1]).contains(&speed));
     }
 
+    /// Drip stage: on tilted faces, wet film beyond the sag limit (`sag_threshold / sin β`)
+    /// runs off and falls as released particles, one per cell.
+    fn drip(&mut self) {
+        let threshold = self.scenario.process.sag_threshold;
+        for t in &mut self.targets {
+            let tilt_sin = (1.0 - t.face.normal.z * t.face.normal.z).max(0.0).sqrt();
+            if threshold <= 0.0 || tilt_sin < 1e-9 {
+                continue;
+            }
+            let limit = threshold / tilt_sin;
+            for cell in 0..t.field.thickness().len() as u32 {
+                let excess = t.field.thickness()[cell as usize] - limit;
+                if excess > 0.0 {
+                    let area = t.field.cell_area();
+                    let removed =
+                        release(t, cell, excess * area, &mut self.swarm, &mut self.tally, &mut self.next_id);
+                    self.tally.dripped.add(removed);
+                }
+            }
+        }
+    }
+
     /// Keeps the broad phase aware of every layer: when a target's layer outgrows the reach it
     /// was indexed with, the reach doubles and the scene is re-indexed (a few times per run).
     fn grow_layer_allowances(&mut self) {
@@ -305,18 +332,9 @@ impl Simulation {
                 }
                 let mut volume = 0.0;
                 for &cell in &region.cells {
-                    let removed = t.field.remove(cell, f64::INFINITY);
                     t.failure_mask[cell as usize] = 2;
-                    let (u, v) = t.field.cell_center(cell);
-                    let pos =
-                        t.face.center + t.face.right * u + t.face.up * v + t.face.normal * RELEASE_OFFSET;
-                    // Released material never counts towards the rebound ratio.
-                    let bits = flags::ALIVE | flags::RELEASED | flags::HIT_SUBSTRATE;
-                    self.swarm.push_with_flags(pos, DVec3::ZERO, removed as f32, self.next_id as u32, bits);
-                    self.next_id += 1;
-                    self.tally.released.add(f64::from(removed as f32));
-                    t.detached.add(removed);
-                    volume += removed;
+                    volume +=
+                        release(t, cell, f64::INFINITY, &mut self.swarm, &mut self.tally, &mut self.next_id);
                 }
                 let area = region.cells.len() as f64 * t.field.cell_area();
                 self.failures.push(FailureEvent {
@@ -436,4 +454,25 @@ impl Simulation {
         }
         debug_assert_eq!(self.retired, self.swarm.flags.iter().filter(|&&f| f & flags::ALIVE == 0).count());
     }
+}
+
+/// Releases up to `volume` (m³) of cell `cell`'s layer as a particle at rest just in front of
+/// the face (released material never counts towards the rebound ratio); returns the volume.
+fn release(
+    t: &mut Target,
+    cell: u32,
+    volume: f64,
+    swarm: &mut Swarm,
+    tally: &mut Tally,
+    next_id: &mut u64,
+) -> f64 {
+    let removed = t.field.remove(cell, volume);
+    let (u, v) = t.field.cell_center(cell);
+    let pos = t.face.center + t.face.right * u + t.face.up * v + t.face.normal * RELEASE_OFFSET;
+    let bits = flags::ALIVE | flags::RELEASED | flags::HIT_SUBSTRATE;
+    swarm.push_with_flags(pos, DVec3::ZERO, removed as f32, *next_id as u32, bits);
+    *next_id += 1;
+    tally.released.add(f64::from(removed as f32));
+    t.detached.add(removed);
+    removed
 }

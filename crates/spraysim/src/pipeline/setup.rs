@@ -162,6 +162,11 @@ pub(super) fn build(scenario: &Scenario) -> Result<Simulation, SetupError> {
         } else {
             0
         },
+        drip_every: if sc.process.drip_interval > 0.0 {
+            (sc.process.drip_interval / s.dt).round().max(1.0) as u64
+        } else {
+            0
+        },
         failures: Vec::new(),
         path: Default::default(),
         impact_log: Vec::new(),

@@ -88,6 +88,7 @@ impl ScenarioFile {
         process.erosion.apply(&p.erosion);
         process.window.apply(&p.window);
         process.sag_threshold = p.sag_threshold.unwrap_or(process.sag_threshold);
+        process.drip_interval = p.drip_interval.unwrap_or(process.drip_interval);
         let mut emitter = preset.emitter();
         emitter.apply(&self.emitter);
         let domain =

@@ -283,6 +283,9 @@ pub struct ProcessParams {
     /// Wet-film thickness above which a film sags on a vertical face, m (on a face tilted by
     /// β from horizontal, when t · sin β exceeds it); 0 switches sag flagging off.
     pub sag_threshold: f64,
+    /// Time between drip passes, s: film beyond the sag limit runs off and falls. 0 (the
+    /// default) switches dripping off.
+    pub drip_interval: f64,
 }
 
 /// `[process]` as a file gives it: every key optional.
@@ -312,6 +315,8 @@ pub struct ProcessOverride {
     pub erosion: ErosionOverride,
     /// See [`ProcessParams::sag_threshold`].
     pub sag_threshold: Option<f64>,
+    /// See [`ProcessParams::drip_interval`].
+    pub drip_interval: Option<f64>,
     /// See [`ProcessParams::window`].
     #[serde(default)]
     pub window: WindowOverride,

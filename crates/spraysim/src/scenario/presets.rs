@@ -70,6 +70,7 @@ impl Preset {
                 erosion: ErosionParams { model: ErosionModel::None, ..EROSION },
                 window: WindowParams { standoff: [1.0, 2.0], max_angle: 20.0, speed: [0.0, 1.0] }, // ASA: 1–2 m, square on; rebound rises beyond 20°
                 sag_threshold: 0.0,
+                drip_interval: 0.0,
             },
             Preset::Painting => ProcessParams {
                 preset: self,
@@ -94,6 +95,7 @@ impl Preset {
                 erosion: ErosionParams { model: ErosionModel::None, ..EROSION },
                 window: WindowParams { standoff: [0.15, 0.3], max_angle: 15.0, speed: [0.2, 1.0] }, // air spray guns: 15–30 cm, near square
                 sag_threshold: 120e-6, // a wet film of about 120 µm starts to sag on a vertical panel,
+                drip_interval: 0.0,
             },
             Preset::Blasting => ProcessParams {
                 preset: self,
@@ -118,6 +120,7 @@ impl Preset {
                 erosion: ErosionParams { model: ErosionModel::Finnie, ..EROSION },
                 window: WindowParams { standoff: [0.3, 0.9], max_angle: 45.0, speed: [0.0, 1.0] }, // 30–90 cm, 45–90° to the surface
                 sag_threshold: 0.0,
+                drip_interval: 0.0,
             },
         }
     }
@@ -188,6 +191,7 @@ const UNITS: &[(&str, &str)] = &[
     ("cushion_thickness", "m, layer at which the multiplier reaches 1"),
     ("interval", "s between failure analyses, 0 = off"),
     ("sag_threshold", "m of wet film that sags on a vertical face, 0 = off"),
+    ("drip_interval", "s between drip passes, 0 = off"),
     ("standoff", "m, [min, max] recommended"),
     ("max_angle", "degrees off square, recommended"),
     ("model", "erosion: none | finnie | oka"),

@@ -295,6 +295,7 @@ fn check_process(p: &ProcessParams) -> Check {
     positive("process.max_lifetime", p.max_lifetime, 1e6, "s")?;
     range("process.coverage_threshold", p.coverage_threshold, 0.0, 10.0, "m")?;
     range("process.sag_threshold", p.sag_threshold, 0.0, 1.0, "m")?;
+    range("process.drip_interval", p.drip_interval, 0.0, 1e6, "s")?;
     let w = &p.window;
     for (key, pair, hi) in
         [("process.window.standoff", w.standoff, 1e3), ("process.window.speed", w.speed, 1e3)]
