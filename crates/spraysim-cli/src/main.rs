@@ -225,5 +225,14 @@ fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
             m.peak_rss as f64 / (1024.0 * 1024.0)
         );
     }
+    let m = measure(&spraysim::bench::raster_pass(1e5), all)?;
+    println!(
+        "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s: {:.2} s wall time ({:.1}× real time)",
+        m.wall,
+        m.real_time_factor()
+    );
+    let ms = 1e3 * spraysim::bench::time_cohesion(1024, 20);
+    println!("cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms");
+    println!("particle storage: {} bytes per particle slot", spraysim::swarm::Swarm::BYTES_PER_PARTICLE);
     Ok(())
 }

@@ -105,6 +105,48 @@ impl ReferenceScene {
     }
 }
 
+/// The reference scene with a 60 s robot raster over the wall at `spawn_rate` particles per
+/// second, cohesion analysed every 0.5 s: the optimisation-loop workload.
+pub fn raster_pass(spawn_rate: f64) -> Scenario {
+    let mut sc = ReferenceScene { spawn_rate, duration: 60.0, ..ReferenceScene::default() }.scenario();
+    sc.nozzle.raster = Some(crate::scenario::RasterParams {
+        target: "wall".into(),
+        size: Some([1.6, 1.5]),
+        standoff: 1.0,
+        speed: 0.5,
+        step_over: 0.1,
+        lead: 0.1,
+        ..Default::default()
+    });
+    sc.process.cohesion.interval = 0.5;
+    sc
+}
+
+/// Mean time of one cohesion analysis of a `side × side` heightfield carrying a shotcrete
+/// layer (a noisy mound, over-loaded at its crest), s.
+pub fn time_cohesion(side: usize, repeats: usize) -> f64 {
+    use crate::cohesion::{Strength, analyse};
+    let mut f = crate::heightfield::HeightField::new(2.0, 2.0, side, side, 0.0);
+    let mut noise = 0x2545_F491_4F6C_DD1D_u64;
+    for c in 0..(side * side) as u32 {
+        let (u, v) = f.cell_center(c);
+        noise ^= noise << 13;
+        noise ^= noise >> 7;
+        noise ^= noise << 17;
+        let jitter = (noise >> 11) as f64 / (1u64 << 53) as f64;
+        let t = 0.3 * (-(u * u + v * v) / 0.18).exp() * (0.9 + 0.2 * jitter);
+        f.deposit(c, t * f.cell_area());
+    }
+    let s = Strength { tensile: 1500.0, shear: 5000.0, cohesion: 2000.0 };
+    let start = Instant::now();
+    let mut regions = 0;
+    for _ in 0..repeats {
+        regions += analyse(&f, glam::DVec3::NEG_X, 2300.0, crate::integrator::GRAVITY, &s).regions.len();
+    }
+    assert!(regions > 0, "the bench layer must be over-loaded somewhere");
+    start.elapsed().as_secs_f64() / repeats as f64
+}
+
 /// What one timed run measured.
 #[derive(Clone, Debug)]
 pub struct Measurement {

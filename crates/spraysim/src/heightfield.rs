@@ -3,6 +3,9 @@
 use crate::collision::Face;
 use glam::DVec3;
 
+/// Side of the blocks whose maximum thickness is kept, cells.
+const BLOCK: usize = 16;
+
 /// A regular grid over a target face recording deposited thickness and impact counts.
 ///
 /// Row index grows along the face's `up`, column index along its `right` (`up × normal`, the
@@ -18,6 +21,11 @@ pub struct HeightField {
     hits: Vec<u32>,
     /// Upper bound of the thickness, m (never lowered by removals).
     max_thickness: f64,
+    /// Upper bound of the thickness per block of `BLOCK × BLOCK` cells, m: bounds the layer
+    /// under a segment without visiting its cells.
+    block_max: Vec<f64>,
+    /// Blocks per row.
+    block_cols: usize,
     /// Cell offsets `(col, row)` of the deposit footprint.
     splat: Vec<(isize, isize)>,
     /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
@@ -50,6 +58,8 @@ impl HeightField {
             thickness: vec![0.0; cols * rows],
             hits: vec![0; cols * rows],
             max_thickness: 0.0,
+            block_max: vec![0.0; cols.div_ceil(BLOCK) * rows.div_ceil(BLOCK)],
+            block_cols: cols.div_ceil(BLOCK),
             reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
         }
@@ -128,9 +138,12 @@ impl HeightField {
         let n = self.splat.iter().filter(in_grid).count();
         let added = volume / (n as f64 * self.cell_area());
         for &(i, j) in self.splat.iter().filter(in_grid) {
-            let t = &mut self.thickness[((row + j) * cols + col + i) as usize];
+            let (r, c) = ((row + j) as usize, (col + i) as usize);
+            let t = &mut self.thickness[r * self.cols + c];
             *t += added;
             self.max_thickness = self.max_thickness.max(*t);
+            let b = &mut self.block_max[(r / BLOCK) * self.block_cols + c / BLOCK];
+            *b = b.max(*t);
         }
     }
 
@@ -152,15 +165,36 @@ impl HeightField {
         (gu, gv)
     }
 
+    /// Largest block maximum over the blocks that the segment's footprint on `face` touches, m.
+    fn block_max_under(&self, face: &Face, p0: DVec3, p1: DVec3) -> f64 {
+        let block = |p: DVec3| {
+            let (u, v) = face.local(p);
+            let cell = self.cell_at(u, v) as usize;
+            ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK)
+        };
+        let ((r0, c0), (r1, c1)) = (block(p0), block(p1));
+        let mut top = 0.0_f64;
+        for r in r0.min(r1)..=r0.max(r1) {
+            for c in c0.min(c1)..=c0.max(c1) {
+                top = top.max(self.block_max[r * self.block_cols + c]);
+            }
+        }
+        top
+    }
+
     /// Where the segment `p0 → p1` first enters the layer on the front of `face`: the segment
     /// fraction, the point and the layer's unit normal there (from the thickness gradient). The
     /// layer is the face raised by each cell's thickness; a segment that starts inside it enters
     /// only after leaving it. `None` if it does not enter before reaching the bare face.
     pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<(f64, DVec3, DVec3)> {
-        let top = self.max_thickness;
         let h0 = (p0 - face.center).dot(face.normal);
         let h1 = (p1 - face.center).dot(face.normal);
-        if top <= 0.0 || h0 <= 0.0 || h0.min(h1) > top {
+        if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) > self.max_thickness {
+            return None;
+        }
+        // The thickest layer under the segment, from the blocks its footprint covers.
+        let top = self.block_max_under(face, p0, p1);
+        if h0.min(h1) > top {
             return None;
         }
         // The part of the segment within the slab between the face and (just above) the thickest
@@ -177,11 +211,11 @@ impl HeightField {
             let cell = self.cell_at(u, v);
             ((q - face.center).dot(face.normal) <= self.thickness[cell as usize]).then_some(cell)
         };
-        // March at half a cell along the face.
+        // March a cell at a time along the face (a column is at least a cell wide).
         let (dx, dy) = self.cell_size();
         let along = (p1 - p0) - face.normal * (h1 - h0);
         let span = along.length() * (s_end - s_start);
-        let n = ((span / (0.5 * dx.min(dy))).ceil() as usize).clamp(1, 1 << 16);
+        let n = ((span / dx.min(dy)).ceil() as usize).clamp(1, 1 << 16);
         let mut was_inside = inside(s_start).is_some();
         let mut prev = s_start;
         for k in 1..=n {
@@ -190,7 +224,7 @@ impl HeightField {
             if now && !was_inside {
                 // Refine the entry between the last outside sample and this one.
                 let (mut a, mut b) = (prev, s);
-                for _ in 0..40 {
+                for _ in 0..32 {
                     let m = 0.5 * (a + b);
                     if inside(m).is_some() {
                         b = m;

@@ -36,6 +36,13 @@ pub struct Swarm {
 }
 
 impl Swarm {
+    /// Bytes of storage per particle slot, summed over the arrays.
+    pub const BYTES_PER_PARTICLE: usize = 2 * std::mem::size_of::<DVec3>()
+        + 2 * std::mem::size_of::<f32>()
+        + std::mem::size_of::<u32>()
+        + std::mem::size_of::<u16>()
+        + std::mem::size_of::<u8>();
+
     /// Number of slots (in flight or retired since the last compaction).
     pub fn len(&self) -> usize {
         self.pos.len()
@@ -82,5 +89,21 @@ impl Swarm {
         retain(&mut self.id, &keep);
         retain(&mut self.impacts, &keep);
         retain(&mut self.flags, &keep);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_particle_fits_the_64_byte_budget() {
+        assert_eq!(Swarm::BYTES_PER_PARTICLE, 63);
+        let mut s = Swarm::default();
+        s.push(DVec3::ONE, DVec3::X, 1e-6, 7);
+        s.push(DVec3::ZERO, DVec3::Y, 2e-6, 8);
+        s.flags[0] &= !flags::ALIVE;
+        s.compact();
+        assert_eq!((s.len(), s.id[0], s.alive()), (1, 8, 1));
     }
 }
