@@ -211,11 +211,11 @@ impl HeightField {
             let cell = self.cell_at(u, v);
             ((q - face.center).dot(face.normal) <= self.thickness[cell as usize]).then_some(cell)
         };
-        // March a cell at a time along the face (a column is at least a cell wide).
+        // March at half a cell along the face.
         let (dx, dy) = self.cell_size();
         let along = (p1 - p0) - face.normal * (h1 - h0);
         let span = along.length() * (s_end - s_start);
-        let n = ((span / dx.min(dy)).ceil() as usize).clamp(1, 1 << 16);
+        let n = ((span / (0.5 * dx.min(dy))).ceil() as usize).clamp(1, 1 << 16);
         let mut was_inside = inside(s_start).is_some();
         let mut prev = s_start;
         for k in 1..=n {
