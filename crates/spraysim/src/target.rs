@@ -73,12 +73,15 @@ impl Target {
     /// Per cell, 1 where a wet film risks sagging: its thickness times the sine of the face's
     /// tilt from horizontal exceeds `threshold` (m). A horizontal face never sags.
     pub fn sag_risk(&self, threshold: f64) -> Vec<u8> {
+        let limit = self.sag_limit(threshold).unwrap_or(f64::INFINITY);
+        self.field.thickness().iter().map(|&t| u8::from(t > limit)).collect()
+    }
+
+    /// Film thickness (m) beyond which a film sags on this face, `threshold / sin β` with β the
+    /// face's tilt from horizontal; `None` when sagging is off or the face is horizontal.
+    pub fn sag_limit(&self, threshold: f64) -> Option<f64> {
         let tilt_sin = (1.0 - self.face.normal.z * self.face.normal.z).max(0.0).sqrt();
-        self.field
-            .thickness()
-            .iter()
-            .map(|&t| u8::from(threshold > 0.0 && t * tilt_sin > threshold))
-            .collect()
+        (threshold > 0.0 && tilt_sin >= 1e-9).then(|| threshold / tilt_sin)
     }
 }
 

@@ -280,11 +280,7 @@ impl Simulation {
     fn drip(&mut self) {
         let threshold = self.scenario.process.sag_threshold;
         for t in &mut self.targets {
-            let tilt_sin = (1.0 - t.face.normal.z * t.face.normal.z).max(0.0).sqrt();
-            if threshold <= 0.0 || tilt_sin < 1e-9 {
-                continue;
-            }
-            let limit = threshold / tilt_sin;
+            let Some(limit) = t.sag_limit(threshold) else { continue };
             for cell in 0..t.field.thickness().len() as u32 {
                 let excess = t.field.thickness()[cell as usize] - limit;
                 if excess > 0.0 {
