@@ -254,8 +254,7 @@ impl Simulation {
     /// along the spray axis, and travel speed, against the process's window.
     fn record_path(&mut self, frame: &crate::nozzle::NozzleFrame, velocity: DVec3) {
         let w = &self.scenario.process.window;
-        let reach =
-            DVec3::from_array(self.scenario.domain.max).distance(DVec3::from_array(self.scenario.domain.min));
+        let reach = self.domain.max.distance(self.domain.min);
         let far = frame.position + frame.axis * reach;
         let nearest = self
             .targets
