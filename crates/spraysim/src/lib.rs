@@ -16,6 +16,7 @@
 //! - [`cohesion`]: cohesive failure of the deposited layer; [`erosion`]: abrasive wear;
 //! - [`pipeline`]: the [`Simulation`] and its stages;
 //! - [`metrics`] and [`io`]: results, files and heatmaps;
+//! - [`calibration`]: fitting emitter parameters to a measured profile;
 //! - [`mod@bench`]: the reference scene for performance measurements.
 //!
 //! ```
@@ -49,6 +50,7 @@
 //! ```
 
 pub mod bench;
+pub mod calibration;
 pub mod cohesion;
 pub mod collision;
 pub mod emitter;

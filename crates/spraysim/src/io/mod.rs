@@ -3,12 +3,14 @@
 //! staging folder inside the output directory first and is moved into place only once all of
 //! it has been written.
 
+pub mod calibration;
 pub mod heatmap;
 pub mod mesh;
+pub mod plot;
 
 use crate::Simulation;
 use crate::scenario::Scenario;
-use ndarray::Array2;
+use ndarray::ArrayView2;
 use std::path::{Path, PathBuf};
 
 /// Why outputs could not be written.
@@ -62,16 +64,27 @@ pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
 
 /// Writes every output of `sim` into `dir` (created if needed); returns the files written.
 pub fn write_outputs(sim: &Simulation, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    write_all(dir, &outputs(sim)?)
+}
+
+/// Writes `files` (name, contents) into `dir`, created if needed, all or none: they go to a
+/// staging folder inside `dir` first and are moved into place once every one has been written.
+/// Returns the paths written.
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     let staging = dir.join(format!(".spraysim-staging-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir(&staging).map_err(io_err(&staging))?;
-    let result = stage(sim, &staging).and_then(|names| {
-        names
-            .into_iter()
-            .map(|name| {
-                let to = dir.join(&name);
-                std::fs::rename(staging.join(&name), &to).map_err(io_err(&to))?;
+    let staged = files.iter().try_for_each(|(name, bytes)| {
+        let path = staging.join(name);
+        std::fs::write(&path, bytes).map_err(io_err(&path))
+    });
+    let result = staged.and_then(|()| {
+        files
+            .iter()
+            .map(|(name, _)| {
+                let to = dir.join(name);
+                std::fs::rename(staging.join(name), &to).map_err(io_err(&to))?;
                 Ok(to)
             })
             .collect()
@@ -80,35 +93,35 @@ pub fn write_outputs(sim: &Simulation, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     result
 }
 
-/// Writes all outputs into `staging`; returns their file names.
-fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
+/// Every output of `sim` as (file name, contents).
+fn outputs(sim: &Simulation) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
     let sc: &Scenario = sim.scenario();
-    let mut names = Vec::new();
-    let mut put = |name: String, bytes: &[u8]| -> Result<(), OutputError> {
-        let path = staging.join(&name);
-        std::fs::write(&path, bytes).map_err(io_err(&path))?;
-        names.push(name);
-        Ok(())
+    let mut files = Vec::new();
+    // `encode` gets the file's name, for its errors.
+    let mut put = |name: String, encode: &mut dyn FnMut(&Path) -> Result<Vec<u8>, OutputError>| {
+        let bytes = encode(Path::new(&name))?;
+        files.push((name, bytes));
+        Ok::<(), OutputError>(())
     };
     let metrics = serde_json::to_string_pretty(&sim.metrics())
-        .map_err(|e| OutputError::Io { path: staging.join("metrics.json"), source: e.into() })?;
-    put("metrics.json".into(), metrics.as_bytes())?;
+        .map_err(|e| OutputError::Io { path: "metrics.json".into(), source: e.into() })?;
+    put("metrics.json".into(), &mut |_| Ok(metrics.clone().into_bytes()))?;
     let header = "# Resolved scenario written by spraysim: every default filled in.\n\
                   # Run it again with `spraysim run scenario.resolved.toml` for the same result.\n\n";
-    put("scenario.resolved.toml".into(), format!("{header}{}", sc.to_toml()).as_bytes())?;
+    put("scenario.resolved.toml".into(), &mut |_| Ok(format!("{header}{}", sc.to_toml()).into_bytes()))?;
 
     if sc.output.impact_log > 0.0 {
-        put("impacts.csv".into(), impact_csv(sim).as_bytes())?;
+        put("impacts.csv".into(), &mut |_| Ok(impact_csv(sim).into_bytes()))?;
     }
     for t in sim.targets() {
         let (rows, cols) = (t.field.rows(), t.field.cols());
         if sc.output.arrays {
             let thickness: Vec<f32> = t.field.thickness().iter().map(|&x| x as f32).collect();
-            put(format!("{}_thickness.npy", t.name), &npy_bytes(rows, cols, thickness, staging)?)?;
-            put(format!("{}_hits.npy", t.name), &npy_bytes(rows, cols, t.field.hits().to_vec(), staging)?)?;
+            put(format!("{}_thickness.npy", t.name), &mut |at| npy_bytes(rows, cols, &thickness, at))?;
+            put(format!("{}_hits.npy", t.name), &mut |at| npy_bytes(rows, cols, t.field.hits(), at))?;
             if !t.erosion.is_empty() {
                 let eroded: Vec<f32> = t.erosion.iter().map(|&x| x as f32).collect();
-                put(format!("{}_erosion.npy", t.name), &npy_bytes(rows, cols, eroded, staging)?)?;
+                put(format!("{}_erosion.npy", t.name), &mut |at| npy_bytes(rows, cols, &eroded, at))?;
             }
         }
         if sc.output.images {
@@ -116,7 +129,7 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
             let scale = heatmap::Scale::thickness(max);
             let grid = heatmap::Grid { values: t.field.thickness(), cols, rows, marks: None };
             let img = heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, sc.output.colormap);
-            put(format!("{}_thickness.png", t.name), &png_bytes(&img, staging)?)?;
+            put(format!("{}_thickness.png", t.name), &mut |at| png_bytes(&img, at))?;
             // Impacts per cm², the map a blasting jet leaves.
             let per_cm2 = 1.0 / (t.field.cell_area() * 1e4);
             let hits: Vec<f64> = t.field.hits().iter().map(|&h| f64::from(h) * per_cm2).collect();
@@ -124,14 +137,14 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
             let scale_hits = heatmap::Scale::count("impacts [1/cm²]");
             let img =
                 heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, sc.output.colormap);
-            put(format!("{}_hits.png", t.name), &png_bytes(&img, staging)?)?;
+            put(format!("{}_hits.png", t.name), &mut |at| png_bytes(&img, at))?;
             if !t.erosion.is_empty() {
                 let deepest = t.erosion.iter().copied().fold(0.0, f64::max);
                 let mut scale = heatmap::Scale::thickness(deepest);
                 scale.label = scale.label.replace("thickness", "eroded");
                 let grid = heatmap::Grid { values: &t.erosion, cols, rows, marks: None };
                 let img = heatmap::render(&grid, &format!("{}: erosion", t.name), &scale, sc.output.colormap);
-                put(format!("{}_erosion.png", t.name), &png_bytes(&img, staging)?)?;
+                put(format!("{}_erosion.png", t.name), &mut |at| png_bytes(&img, at))?;
             }
             if sc.process.sag_threshold > 0.0 {
                 let risk = t.sag_risk(sc.process.sag_threshold);
@@ -142,17 +155,17 @@ fn stage(sim: &Simulation, staging: &Path) -> Result<Vec<String>, OutputError> {
                     &scale,
                     sc.output.colormap,
                 );
-                put(format!("{}_sag.png", t.name), &png_bytes(&img, staging)?)?;
+                put(format!("{}_sag.png", t.name), &mut |at| png_bytes(&img, at))?;
             }
             if sc.process.cohesion.interval > 0.0 {
                 let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
                 let title = format!("{}: failed (red), at risk (orange)", t.name);
                 let img = heatmap::render(&grid, &title, &scale, sc.output.colormap);
-                put(format!("{}_failure.png", t.name), &png_bytes(&img, staging)?)?;
+                put(format!("{}_failure.png", t.name), &mut |at| png_bytes(&img, at))?;
             }
         }
     }
-    Ok(names)
+    Ok(files)
 }
 
 /// The impact log as CSV: one sampled impact a row.
@@ -189,18 +202,19 @@ fn impact_csv(sim: &Simulation) -> String {
 fn npy_bytes<T: ndarray_npy::WritableElement>(
     rows: usize,
     cols: usize,
-    data: Vec<T>,
+    data: &[T],
     at: &Path,
 ) -> Result<Vec<u8>, OutputError> {
     use ndarray_npy::WriteNpyExt;
     let err = |message: String| OutputError::Npy { path: at.to_path_buf(), message };
-    let array = Array2::from_shape_vec((rows, cols), data).map_err(|e| err(e.to_string()))?;
+    let array = ArrayView2::from_shape((rows, cols), data).map_err(|e| err(e.to_string()))?;
     let mut bytes = Vec::new();
     array.write_npy(&mut bytes).map_err(|e| err(e.to_string()))?;
     Ok(bytes)
 }
 
-fn png_bytes(img: &image::RgbImage, at: &Path) -> Result<Vec<u8>, OutputError> {
+/// `img` encoded as PNG; `at` names the file in errors.
+pub(crate) fn png_bytes(img: &image::RgbImage, at: &Path) -> Result<Vec<u8>, OutputError> {
     let mut bytes = Vec::new();
     img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
         .map_err(|e| OutputError::Image { path: at.to_path_buf(), message: e.to_string() })?;

@@ -129,6 +129,11 @@ impl Simulation {
         Ok(())
     }
 
+    /// The nozzle's path: pose and spray state over time.
+    pub fn nozzle(&self) -> &NozzlePath {
+        &self.nozzle
+    }
+
     /// The resolved scenario being simulated.
     pub fn scenario(&self) -> &Scenario {
         &self.scenario
