@@ -40,6 +40,52 @@ enum Command {
         #[arg(long)]
         resolved: bool,
     },
+    /// Fit emitter parameters so that the simulated profile matches a measured one.
+    ///
+    /// The profile is a CSV file with a header naming position and value with units, e.g.
+    /// `radius [mm],thickness [mm]` (thickness in m, cm, mm or µm; or mass per area in kg/m²
+    /// or g/m²). Writes calibrated.toml, calibration.json, profile.csv and profile.png.
+    Calibrate {
+        /// Scenario file (TOML) to start from; its seed is used for every evaluation.
+        scenario: PathBuf,
+        /// Measured profile (CSV).
+        profile: PathBuf,
+        /// Parameters to fit, comma-separated: mu, sigma, cone_angle, speed_min, speed_max.
+        #[arg(long, value_delimiter = ',', default_value = "mu,sigma")]
+        fit: Vec<String>,
+        /// Target whose layer is compared (default: the first).
+        #[arg(long)]
+        target: Option<String>,
+        /// How the profile runs: `radial` (from the centre), `right` or `up` (along the
+        /// target's width or height axis, through the centre).
+        #[arg(long, default_value = "radial")]
+        shape: String,
+        /// Profile centre in the target's right,up coordinates, m (default: where the nozzle
+        /// axis at time 0 meets the target).
+        #[arg(long, value_delimiter = ',', num_args = 2, allow_negative_numbers = true)]
+        center: Option<Vec<f64>>,
+        /// Width of the band of cells averaged for a line profile, m.
+        #[arg(long, default_value_t = 0.02)]
+        band: f64,
+        /// Compare shapes only: scale the simulated profile to the measured one first.
+        #[arg(long)]
+        shape_only: bool,
+        /// Nelder–Mead iterations at most.
+        #[arg(long, default_value_t = 100)]
+        max_iterations: u64,
+        /// Stop when the simplex's RMS errors agree within this fraction of the peak.
+        #[arg(long, default_value_t = 1e-5)]
+        tolerance: f64,
+        /// Output directory.
+        #[arg(short, long, default_value = "calibration")]
+        output: PathBuf,
+        /// Worker threads per simulation; 0 uses every core.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+        /// No progress display or summary.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Print each process preset as TOML to paste into a scenario.
     Presets,
     /// Time the reference scene and its scaling variants; prints a Markdown table.
@@ -85,6 +131,50 @@ fn dispatch(command: Command) -> Result<()> {
             Ok(())
         }
         Command::Bench { spawn_rate, duration, threads } => bench(spawn_rate, duration, threads),
+        Command::Calibrate {
+            scenario,
+            profile,
+            fit,
+            target,
+            shape,
+            center,
+            band,
+            shape_only,
+            max_iterations,
+            tolerance,
+            output,
+            threads,
+            quiet,
+        } => {
+            use spraysim::calibration::{CalibrationSettings, FitParam, ProfileShape};
+            let fit = fit
+                .iter()
+                .map(|name| {
+                    FitParam::parse(name.trim()).with_context(|| {
+                        let all: Vec<&str> = FitParam::ALL.iter().map(|p| p.name()).collect();
+                        format!("--fit: unknown parameter `{name}` (one of {})", all.join(", "))
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let shape = match shape.as_str() {
+                "radial" => ProfileShape::Radial,
+                "right" => ProfileShape::Right,
+                "up" => ProfileShape::Up,
+                other => anyhow::bail!("--shape: `{other}` is not one of radial, right, up"),
+            };
+            let settings = CalibrationSettings {
+                fit,
+                target,
+                shape,
+                center: center.map(|c| [c[0], c[1]]),
+                band,
+                shape_only,
+                max_iterations,
+                tolerance,
+                threads,
+            };
+            calibrate(&scenario, &profile, &settings, &output, quiet)
+        }
         Command::Presets => {
             print!("{}", spraysim::scenario::presets_toml());
             Ok(())
@@ -180,6 +270,65 @@ fn print_summary(m: &Metrics, wall: f64) {
             100.0 * th.covered_fraction
         );
     }
+}
+
+/// Fits the emitter to a measured profile and writes the results.
+fn calibrate(
+    path: &Path,
+    profile: &Path,
+    settings: &spraysim::calibration::CalibrationSettings,
+    output: &Path,
+    quiet: bool,
+) -> Result<()> {
+    use spraysim::calibration::MeasuredProfile;
+    let scenario = Scenario::from_path(path)?;
+    let measured = MeasuredProfile::from_path(profile)?;
+    spraysim::io::check_writable(output)
+        .with_context(|| format!("output directory {} is not writable", output.display()))?;
+    // Nelder–Mead's evaluation count is not known in advance: a spinner with the best error.
+    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new_spinner() };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    let names: Vec<&str> = settings.fit.iter().map(|p| p.name()).collect();
+    let cal = spraysim::calibration::calibrate(&scenario, &measured, settings, |e| {
+        let values: Vec<String> = names.iter().zip(&e.values).map(|(n, v)| format!("{n} = {v:.4}")).collect();
+        bar.set_message(format!(
+            "evaluation {}: {} → RMS {:.2} % (best {:.2} %)",
+            e.index,
+            values.join(", "),
+            100.0 * e.rms,
+            100.0 * e.best_rms
+        ));
+        bar.tick();
+    })?;
+    bar.finish_and_clear();
+    let files = spraysim::io::calibration::files(&cal, &measured)
+        .and_then(|f| spraysim::io::write_all(output, &f))
+        .with_context(|| format!("writing outputs to {}", output.display()))?;
+    if !quiet {
+        println!(
+            "{} evaluations, {} iterations ({})",
+            cal.evaluations, cal.iterations, cal.termination
+        );
+        println!("{:<12}{:>14}{:>14}  unit", "parameter", "start", "fitted");
+        for ((p, a), b) in cal.params.iter().zip(&cal.initial).zip(&cal.fitted) {
+            println!("{:<12}{a:>14.6}{b:>14.6}  {}", p.name(), p.unit());
+        }
+        println!("{:<22}{:>10}{:>10}", "error, % of peak", "start", "fitted");
+        let (i, f) = (&cal.initial_errors, &cal.errors);
+        for (name, a, b) in
+            [("max absolute", i.max_abs, f.max_abs), ("RMS", i.rms, f.rms), ("mean absolute", i.mean_abs, f.mean_abs)]
+        {
+            println!("{name:<22}{:>10.2}{:>10.2}", 100.0 * a, 100.0 * b);
+        }
+        if settings.shape_only {
+            println!("simulated profile scaled by {:.4} (shape only)", cal.scale);
+        }
+        println!("wrote {} files to {}", files.len(), output.display());
+    }
+    Ok(())
 }
 
 /// Runs the reference scene and its scaling variants and prints one table row each.
