@@ -86,6 +86,20 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
+    /// Run every check against a closed form and write a Markdown report with plots.
+    ///
+    /// Writes DIR/validation.md and DIR/validation/*.png; fails if any check fails.
+    Validate {
+        /// Output directory (`docs` regenerates the committed report).
+        #[arg(short, long, default_value = "validation")]
+        output: PathBuf,
+        /// Sample sizes as a multiple of the test suite's.
+        #[arg(long, default_value_t = 10.0)]
+        size: f64,
+        /// Worker threads; 0 uses every core. Results do not depend on it.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+    },
     /// Print each process preset as TOML to paste into a scenario.
     Presets,
     /// Time the reference scene and its scaling variants; prints a Markdown table.
@@ -131,6 +145,7 @@ fn dispatch(command: Command) -> Result<()> {
             Ok(())
         }
         Command::Bench { spawn_rate, duration, threads } => bench(spawn_rate, duration, threads),
+        Command::Validate { output, size, threads } => validate(&output, size, threads),
         Command::Calibrate {
             scenario,
             profile,
@@ -272,6 +287,38 @@ fn print_summary(m: &Metrics, wall: f64) {
     }
 }
 
+/// Runs the closed-form checks and writes their report.
+fn validate(output: &Path, size: f64, threads: usize) -> Result<()> {
+    if !(size.is_finite() && (0.01..=1000.0).contains(&size)) {
+        anyhow::bail!("--size must be between 0.01 and 1000, got {size}");
+    }
+    spraysim::io::check_writable(output)
+        .with_context(|| format!("output directory {} is not writable", output.display()))?;
+    let start = Instant::now();
+    let report = spraysim::validation::report(spraysim::validation::Size::times(size), threads, |name| {
+        eprintln!("[{:>6.1} s] {name}", start.elapsed().as_secs_f64());
+    });
+    let files = report
+        .files()
+        .and_then(|f| spraysim::io::write_all(output, &f))
+        .with_context(|| format!("writing the report to {}", output.display()))?;
+    for v in &report.verdicts {
+        println!(
+            "{:<6} {}: {} ({})",
+            if v.passed { "pass" } else { "FAIL" },
+            v.name,
+            v.statistic,
+            v.criterion
+        );
+    }
+    println!("wrote {} files to {} in {:.1} s", files.len(), output.display(), start.elapsed().as_secs_f64());
+    let failed = report.verdicts.iter().filter(|v| !v.passed).count();
+    if failed > 0 {
+        anyhow::bail!("{failed} of {} checks failed", report.verdicts.len());
+    }
+    Ok(())
+}
+
 /// Fits the emitter to a measured profile and writes the results.
 fn calibrate(
     path: &Path,
@@ -308,19 +355,18 @@ fn calibrate(
         .and_then(|f| spraysim::io::write_all(output, &f))
         .with_context(|| format!("writing outputs to {}", output.display()))?;
     if !quiet {
-        println!(
-            "{} evaluations, {} iterations ({})",
-            cal.evaluations, cal.iterations, cal.termination
-        );
+        println!("{} evaluations, {} iterations ({})", cal.evaluations, cal.iterations, cal.termination);
         println!("{:<12}{:>14}{:>14}  unit", "parameter", "start", "fitted");
         for ((p, a), b) in cal.params.iter().zip(&cal.initial).zip(&cal.fitted) {
             println!("{:<12}{a:>14.6}{b:>14.6}  {}", p.name(), p.unit());
         }
         println!("{:<22}{:>10}{:>10}", "error, % of peak", "start", "fitted");
         let (i, f) = (&cal.initial_errors, &cal.errors);
-        for (name, a, b) in
-            [("max absolute", i.max_abs, f.max_abs), ("RMS", i.rms, f.rms), ("mean absolute", i.mean_abs, f.mean_abs)]
-        {
+        for (name, a, b) in [
+            ("max absolute", i.max_abs, f.max_abs),
+            ("RMS", i.rms, f.rms),
+            ("mean absolute", i.mean_abs, f.mean_abs),
+        ] {
             println!("{name:<22}{:>10.2}{:>10.2}", 100.0 * a, 100.0 * b);
         }
         if settings.shape_only {

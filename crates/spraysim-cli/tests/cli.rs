@@ -125,3 +125,59 @@ fn the_default_scene_runs_without_a_scenario() {
     assert!(tmp.path().join("d/wall_thickness.png").exists());
     assert!(tmp.path().join("d/floor_thickness.npy").exists());
 }
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(name).display().to_string()
+}
+
+#[test]
+fn calibrate_writes_a_fitted_scenario_that_runs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let (scenario, profile) = (example("calibrate.toml"), example("profile.csv"));
+    // A few iterations only: the fit itself is tested in the library.
+    let o = spraysim(&["calibrate", &scenario, &profile, "--max-iterations", "3", "-o", "cal"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    for words in ["max absolute", "RMS", "mean absolute", "mu", "sigma"] {
+        assert!(out.contains(words), "summary lacks `{words}`: {out}");
+    }
+    for name in ["calibrated.toml", "calibration.json", "profile.csv", "profile.png"] {
+        assert!(tmp.path().join("cal").join(name).is_file(), "{name} missing");
+    }
+    let o = spraysim(&["check", "cal/calibrated.toml"], tmp.path());
+    assert!(o.status.success(), "the fitted scenario is refused: {}", stderr(&o));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("cal/calibration.json")).expect("json"))
+            .expect("parses");
+    assert_eq!(json["params"], serde_json::json!(["mu", "sigma"]));
+    let rms = json["errors"]["rms"].as_f64().expect("rms");
+    assert!(rms < json["initial_errors"]["rms"].as_f64().expect("initial rms"), "no progress: {json}");
+}
+
+#[test]
+fn calibrate_refuses_bad_input_and_writes_nothing() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("inches.csv"), "radius [in],thickness [mm]\n0,1\n1,1\n2,1\n")
+        .expect("write");
+    std::fs::write(
+        tmp.path().join("polar.toml"),
+        format!("{SMALL}\n[emitter]\ndirection = \"uniform_polar\"\n"),
+    )
+    .expect("write");
+    let (scenario, profile) = (example("calibrate.toml"), example("profile.csv"));
+    for (args, expect) in [
+        (vec!["calibrate", &scenario, "inches.csv"], "inches.csv:1"),
+        (vec!["calibrate", &scenario, &profile, "--fit", "mu,tau"], "unknown parameter `tau`"),
+        (vec!["calibrate", &scenario, &profile, "--shape", "diagonal"], "`diagonal`"),
+        (vec!["calibrate", &scenario, &profile, "--target", "ceiling"], "no target named `ceiling`"),
+        (vec!["calibrate", "polar.toml", &profile], "truncated_normal"),
+        (vec!["calibrate", &scenario, "missing.csv"], "missing.csv"),
+    ] {
+        let mut args = args.clone();
+        args.extend(["-o", "never"]);
+        let o = spraysim(&args, tmp.path());
+        assert!(!o.status.success(), "{args:?} accepted");
+        assert!(stderr(&o).contains(expect), "{args:?}: {}", stderr(&o));
+        assert!(!tmp.path().join("never").exists(), "{args:?} left an output directory");
+    }
+}

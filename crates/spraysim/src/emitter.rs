@@ -180,7 +180,7 @@ fn polar_point<R: Rng>(r0: f64, r1: f64, rng: &mut R) -> (f64, f64) {
 /// random numbers, as in calibration) is continuous in μ and σ. Rejection sampling would not be.
 pub fn truncated_normal_unit<R: Rng>(mu: f64, sigma: f64, rng: &mut R) -> f64 {
     let u = rng.random::<f64>();
-    if !(sigma > 0.0) {
+    if sigma.is_nan() || sigma <= 0.0 {
         return mu.clamp(0.0, 1.0);
     }
     let (a, b) = (-mu / sigma, (1.0 - mu) / sigma);
@@ -218,7 +218,7 @@ pub fn inverse_normal_cdf(p: f64) -> f64 {
         -3.969683028665376e1,
         2.209460984245205e2,
         -2.759285104469687e2,
-        1.383577518672690e2,
+        1.38357751867269e2,
         -3.066479806614716e1,
         2.506628277459239,
     ];
@@ -237,8 +237,7 @@ pub fn inverse_normal_cdf(p: f64) -> f64 {
         4.374664141464968,
         2.938163982698783,
     ];
-    const D: [f64; 4] =
-        [7.784695709041462e-3, 3.224671290700398e-1, 2.445134137142996, 3.754408661907416];
+    const D: [f64; 4] = [7.784695709041462e-3, 3.224671290700398e-1, 2.445134137142996, 3.754408661907416];
     const LOW: f64 = 0.02425;
     if p.is_nan() || p <= 0.0 {
         return if p == 0.0 { f64::NEG_INFINITY } else { f64::NAN };
@@ -272,8 +271,7 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
 
-    const N: usize = 200_000;
-    const BINS: usize = 20;
+    const N: u64 = 200_000;
     /// χ² with 19 degrees of freedom exceeds 50 with probability about 1.2e-4.
     const CHI2_LIMIT: f64 = 50.0;
 
@@ -283,62 +281,7 @@ mod tests {
 
     /// χ² of the histogram of θ/θ_half against bin probabilities `p`.
     fn chi2(direction: Direction, half: f64, p: impl Fn(f64, f64) -> f64) -> f64 {
-        let e = Emitter::new(Aperture::Point, direction, half, [1.0, 1.0], 1.0, 1.0);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
-        let mut hist = [0usize; BINS];
-        for _ in 0..N {
-            let (_, v) = e.sample(&frame(), &mut rng);
-            let s = v.z.clamp(-1.0, 1.0).acos() / half;
-            hist[((s * BINS as f64) as usize).min(BINS - 1)] += 1;
-        }
-        (0..BINS)
-            .map(|i| {
-                let expected = N as f64 * p(i as f64 / BINS as f64, (i + 1) as f64 / BINS as f64);
-                (hist[i] as f64 - expected).powi(2) / expected
-            })
-            .sum()
-    }
-
-    fn truncated_normal_bin(mu: f64, sigma: f64) -> impl Fn(f64, f64) -> f64 {
-        move |a, b| {
-            (normal_cdf((b - mu) / sigma) - normal_cdf((a - mu) / sigma)) / truncated_normal_mass(mu, sigma)
-        }
-    }
-
-    #[test]
-    fn inverse_normal_cdf_inverts_the_distribution_function() {
-        for i in 1..2000 {
-            let p = i as f64 / 2000.0;
-            let x = inverse_normal_cdf(p);
-            assert!((normal_cdf(x) - p).abs() < 4.0 * f64::EPSILON, "p = {p}: Φ(Φ⁻¹(p)) = {}", normal_cdf(x));
-        }
-        // The tails, where the rational approximation switches form.
-        for p in [1e-300, 1e-100, 1e-12, 1e-5, 0.02, 0.03] {
-            let x = inverse_normal_cdf(p);
-            // Near x = −21 one ulp of x alone moves Φ by 1e-13 relative.
-            let rel = (normal_cdf(x) / p - 1.0).abs();
-            assert!(rel < 1e-12 * x.abs().max(1.0), "p = {p}: x = {x}, relative error {rel:e}");
-            if p >= 1e-5 {
-                // Symmetry, where 1 − p still holds p's digits.
-                assert!((inverse_normal_cdf(1.0 - p) + x).abs() < 1e-9 * x.abs(), "p = {p}");
-            }
-        }
-        assert_eq!(inverse_normal_cdf(0.5), 0.0);
-        assert_eq!(inverse_normal_cdf(0.0), f64::NEG_INFINITY);
-        assert!(inverse_normal_cdf(1.5).is_nan());
-    }
-
-    #[test]
-    fn truncated_normal_draws_move_continuously_with_mu_and_sigma() {
-        // The same stream gives nearby angles for nearby parameters: common random numbers.
-        let draw = |mu, sigma| {
-            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-            (0..1000).map(|_| truncated_normal_unit(mu, sigma, &mut rng)).collect::<Vec<_>>()
-        };
-        let (base, nudged) = (draw(0.255, 0.102), draw(0.256, 0.1021));
-        let worst = base.iter().zip(&nudged).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        assert!(worst < 0.01, "a 0.001 nudge moved a draw by {worst}");
-        assert!(base.iter().all(|s| (0.0..=1.0).contains(s)));
+        crate::validation::checks::direction_histogram(direction, half, N, p).chi2
     }
 
     #[test]
@@ -347,14 +290,14 @@ mod tests {
         let c = chi2(
             Direction::TruncatedNormal { mu: 0.255, sigma: 0.102 },
             half,
-            truncated_normal_bin(0.255, 0.102),
+            crate::validation::checks::truncated_normal_bin(0.255, 0.102),
         );
         assert!(c < CHI2_LIMIT, "χ² = {c}");
         // A σ off by 10 % is detected.
         let wrong = chi2(
             Direction::TruncatedNormal { mu: 0.255, sigma: 0.112 },
             half,
-            truncated_normal_bin(0.255, 0.102),
+            crate::validation::checks::truncated_normal_bin(0.255, 0.102),
         );
         assert!(wrong > CHI2_LIMIT, "χ² = {wrong}");
     }
@@ -368,9 +311,7 @@ mod tests {
     #[test]
     fn uniform_solid_angle_is_uniform_in_cosine() {
         let half: f64 = 0.6;
-        let c = chi2(Direction::UniformSolidAngle, half, |a, b| {
-            ((a * half).cos() - (b * half).cos()) / (1.0 - half.cos())
-        });
+        let c = chi2(Direction::UniformSolidAngle, half, crate::validation::checks::solid_angle_bin(half));
         assert!(c < CHI2_LIMIT, "χ² = {c}");
     }
 

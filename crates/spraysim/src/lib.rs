@@ -17,6 +17,7 @@
 //! - [`pipeline`]: the [`Simulation`] and its stages;
 //! - [`metrics`] and [`io`]: results, files and heatmaps;
 //! - [`calibration`]: fitting emitter parameters to a measured profile;
+//! - [`validation`]: checks against closed forms and their report;
 //! - [`mod@bench`]: the reference scene for performance measurements.
 //!
 //! ```
@@ -66,6 +67,7 @@ pub mod rng;
 pub mod scenario;
 pub mod swarm;
 pub mod target;
+pub mod validation;
 
 pub use metrics::Metrics;
 pub use pipeline::{SetupError, Simulation};

@@ -85,7 +85,11 @@ fn calibration_recovers_mu_and_sigma_from_a_synthetic_profile() {
     assert!((cal.fitted[0] - mu).abs() < 0.012, "μ = {}", cal.fitted[0]);
     assert!((cal.fitted[1] - sigma).abs() < 0.02, "σ = {}", cal.fitted[1]);
     // The paper's three measures, in % of the peak: its fit reached 5, 3 and 2.8 on real data.
-    assert!(cal.errors.max_abs < 0.06 && cal.errors.rms < 0.03 && cal.errors.mean_abs < 0.02, "{:?}", cal.errors);
+    assert!(
+        cal.errors.max_abs < 0.06 && cal.errors.rms < 0.03 && cal.errors.mean_abs < 0.02,
+        "{:?}",
+        cal.errors
+    );
     assert!(cal.initial_errors.rms > 0.2, "the start was not far off: {:?}", cal.initial_errors);
     // The fitted scenario carries the values.
     assert_eq!((cal.scenario.emitter.mu, cal.scenario.emitter.sigma), (cal.fitted[0], cal.fitted[1]));

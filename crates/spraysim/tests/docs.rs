@@ -1,4 +1,5 @@
-//! The scenarios shown in the documentation are valid.
+//! The documentation matches the code: its scenarios are valid, and the validation report is
+//! what `spraysim validate` writes.
 
 use spraysim::Scenario;
 
@@ -34,4 +35,25 @@ fn the_reference_shows_the_default_scene_as_shipped() {
         .map(|l| format!("{l}\n"))
         .collect();
     assert!(toml_blocks(&text).contains(&body), "docs/scenario.md is out of date with the default scene");
+}
+
+#[test]
+fn the_committed_validation_report_is_what_validate_writes_and_every_check_passes() {
+    // The same experiments at the same size as `spraysim validate --output docs`.
+    let report = spraysim::validation::report(spraysim::validation::Size::times(10.0), 0, |_| {});
+    let failed: Vec<_> = report.verdicts.iter().filter(|v| !v.passed).collect();
+    assert!(failed.is_empty(), "failed checks: {failed:#?}");
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let committed =
+        std::fs::read_to_string(format!("{root}/docs/validation.md")).expect("docs/validation.md");
+    assert!(
+        committed == report.markdown,
+        "docs/validation.md is out of date: regenerate it with `cargo run --release -- validate --output docs`"
+    );
+    for (stem, _) in &report.charts {
+        assert!(
+            std::path::Path::new(&format!("{root}/docs/validation/{stem}.png")).is_file(),
+            "{stem}.png missing"
+        );
+    }
 }

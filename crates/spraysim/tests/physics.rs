@@ -129,18 +129,18 @@ fn tilted_face(theta_deg: f64, alpha: f64, extra: &str) -> Scenario {
 
 #[test]
 fn rebound_fraction_at_fixed_angle_matches_alpha_times_curve() {
+    use spraysim::validation::checks::rebound_fraction;
     for (theta, alpha) in [(0.0, 1.0), (30.0, 1.0), (45.0, 1.0), (45.0, 0.5), (55.0, 0.8)] {
-        let sim = run(&tilted_face(theta, alpha, ""));
-        let m = sim.metrics();
-        assert_conserved(&m);
+        let r = rebound_fraction(theta, alpha, 2e4, 7, 0);
+        assert!(r.conserved);
+        // The curve, evaluated here independently of the engine's.
         let x: f64 = theta / 90.0;
         let pr: f64 = SHOTCRETE_REBOUND_POLYNOMIAL.iter().rev().fold(0.0, |a, c| a * x + c);
         let p = (alpha * pr.clamp(0.0, 1.0)).clamp(0.0, 1.0);
-        let n = m.emitted.count as f64;
-        let measured = m.rebound_ratio.expect("impacts");
+        assert_eq!(r.expected, p);
         // 4.5 binomial standard deviations: a false alarm about once in 10⁵ runs.
-        let tol = 4.5 * (p * (1.0 - p) / n).sqrt();
-        assert!((measured - p).abs() <= tol, "θ = {theta}°, α = {alpha}: {measured} vs {p} ± {tol}");
+        let tol = 4.5 * (p * (1.0 - p) / r.n as f64).sqrt();
+        assert!((r.measured - p).abs() <= tol, "θ = {theta}°, α = {alpha}: {} vs {p} ± {tol}", r.measured);
     }
 }
 

@@ -454,8 +454,10 @@ pub fn calibrate(
     let state = result.state();
     let best = state.get_best_param().cloned().unwrap_or_else(|| initial.clone());
     let iterations = state.get_iter();
-    let termination = state.get_termination_reason().map_or_else(|| "unknown".into(), |r| r.text().to_string());
-    let problem = result.problem.problem.ok_or_else(|| CalibrationError::Optimiser("lost the problem".into()))?;
+    let termination =
+        state.get_termination_reason().map_or_else(|| "unknown".into(), |r| r.text().to_string());
+    let problem =
+        result.problem.problem.ok_or_else(|| CalibrationError::Optimiser("lost the problem".into()))?;
     if let Some(e) = problem.state.borrow_mut().failure.take() {
         return Err(e);
     }

@@ -95,10 +95,8 @@ impl MeasuredProfile {
             location: line.map_or(origin.to_string(), |l| format!("{origin}:{l}")),
             message,
         };
-        let mut reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .from_reader(text.as_bytes());
+        let mut reader =
+            csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
         let headers = reader.headers().map_err(|e| err(None, e.to_string()))?.clone();
         let header_line = headers.position().map(|p| p.line());
         if headers.len() != 2 {
@@ -111,13 +109,15 @@ impl MeasuredProfile {
                 ),
             ));
         }
-        let (position_name, position_unit) = name_and_unit(&headers[0])
-            .ok_or_else(|| err(header_line, format!("column `{}` has no unit, e.g. `radius [mm]`", &headers[0])))?;
+        let (position_name, position_unit) = name_and_unit(&headers[0]).ok_or_else(|| {
+            err(header_line, format!("column `{}` has no unit, e.g. `radius [mm]`", &headers[0]))
+        })?;
         let position_factor = length_factor(&position_unit).ok_or_else(|| {
             err(header_line, format!("position unit `{position_unit}` is not one of m, cm, mm"))
         })?;
-        let (value_name, value_unit) = name_and_unit(&headers[1])
-            .ok_or_else(|| err(header_line, format!("column `{}` has no unit, e.g. `thickness [mm]`", &headers[1])))?;
+        let (value_name, value_unit) = name_and_unit(&headers[1]).ok_or_else(|| {
+            err(header_line, format!("column `{}` has no unit, e.g. `thickness [mm]`", &headers[1]))
+        })?;
         let (quantity, factor) = value_factor(&value_unit).ok_or_else(|| {
             err(
                 header_line,
@@ -155,7 +155,14 @@ impl MeasuredProfile {
         if !values.iter().any(|&v| v > 0.0) {
             return Err(err(None, "every value is zero: nothing to fit".into()));
         }
-        Ok(MeasuredProfile { origin: origin.to_string(), position_name, value_name, quantity, positions, values })
+        Ok(MeasuredProfile {
+            origin: origin.to_string(),
+            position_name,
+            value_name,
+            quantity,
+            positions,
+            values,
+        })
     }
 
     /// Largest measured value, m or kg/m²: errors are reported as percentages of it.
@@ -290,8 +297,8 @@ mod tests {
 
     #[test]
     fn radial_bins_average_their_annuli() {
-        // 1 cm cells on a 1 m square; thickness = radius from the centre, so each annulus mean
-        // is close to its radius.
+        // 1 cm cells on a 1 m square; thickness = radius from the centre, so the mean over the
+        // annulus [a, b] is the area-weighted mean radius (2/3)(b³ − a³)/(b² − a²).
         let mut field = HeightField::new(1.0, 1.0, 100, 100, 0.0);
         let area = field.cell_area();
         for cell in 0..10_000u32 {
@@ -301,13 +308,22 @@ mod tests {
         let positions = [0.1, 0.2, 0.3, 0.4];
         let s = ProfileSampler::new(&field, &positions, ProfileShape::Radial, (0.0, 0.0), 0.0).expect("bins");
         for (m, r) in s.sample(field.thickness()).iter().zip(positions) {
-            assert!((m - r).abs() < 0.004, "annulus at {r}: mean {m}");
+            let (a, b) = (r - 0.05, r + 0.05);
+            let expected = 2.0 / 3.0 * (b.powi(3) - a.powi(3)) / (b * b - a * a);
+            assert!((m - expected).abs() < 0.002, "annulus at {r}: mean {m}, expected {expected}");
         }
-        // A line along `up` through u = 0.2 sees |v| ≈ the position... and sqrt(u² + v²) in fact.
-        let line = ProfileSampler::new(&field, &[-0.3, 0.0, 0.3], ProfileShape::Up, (0.2, 0.0), 0.02).expect("bins");
+        // A line along `up` through u = 0.2, bins 0.3 m long: the mean of √(0.2² + v²) over each.
+        let line =
+            ProfileSampler::new(&field, &[-0.3, 0.0, 0.3], ProfileShape::Up, (0.2, 0.0), 0.02).expect("bins");
         let got = line.sample(field.thickness());
-        assert!((got[1] - 0.2).abs() < 0.01 && (got[0] - 0.2f64.hypot(0.3)).abs() < 0.02, "{got:?}");
+        for (m, p) in got.iter().zip([-0.3, 0.0, 0.3]) {
+            let expected =
+                (0..3000).map(|k| 0.2f64.hypot(p - 0.15 + (k as f64 + 0.5) * 1e-4)).sum::<f64>() / 3000.0;
+            assert!((m - expected).abs() < 0.002, "bin at {p}: mean {m}, expected {expected}");
+        }
         // Off the target: refused.
-        assert!(ProfileSampler::new(&field, &[0.4, 0.6, 0.8], ProfileShape::Right, (0.0, 0.0), 0.02).is_err());
+        assert!(
+            ProfileSampler::new(&field, &[0.4, 0.6, 0.8], ProfileShape::Right, (0.0, 0.0), 0.02).is_err()
+        );
     }
 }

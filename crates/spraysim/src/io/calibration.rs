@@ -67,6 +67,7 @@ pub fn files(cal: &Calibration, measured: &MeasuredProfile) -> Result<Vec<(Strin
                 Mark::Line,
             ),
         ],
+        legend: super::plot::Legend::UpperRight,
     };
     Ok(vec![
         ("calibrated.toml".into(), toml.into_bytes()),

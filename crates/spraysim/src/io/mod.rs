@@ -67,7 +67,7 @@ pub fn write_outputs(sim: &Simulation, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     write_all(dir, &outputs(sim)?)
 }
 
-/// Writes `files` (name, contents) into `dir`, created if needed, all or none: they go to a
+/// Writes `files` (relative path, contents) into `dir`, created if needed, all or none: they go to a
 /// staging folder inside `dir` first and are moved into place once every one has been written.
 /// Returns the paths written.
 pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
@@ -75,10 +75,22 @@ pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>
     let staging = dir.join(format!(".spraysim-staging-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir(&staging).map_err(io_err(&staging))?;
-    let staged = files.iter().try_for_each(|(name, bytes)| {
-        let path = staging.join(name);
-        std::fs::write(&path, bytes).map_err(io_err(&path))
+    // Names may hold folders (`plots/a.png`): create them in the staging area and in `dir`.
+    let folders = |root: &Path| -> Result<(), OutputError> {
+        for (name, _) in files {
+            if let Some(parent) = root.join(name).parent() {
+                std::fs::create_dir_all(parent).map_err(io_err(parent))?;
+            }
+        }
+        Ok(())
+    };
+    let staged = folders(&staging).and_then(|()| {
+        files.iter().try_for_each(|(name, bytes)| {
+            let path = staging.join(name);
+            std::fs::write(&path, bytes).map_err(io_err(&path))
+        })
     });
+    let staged = staged.and_then(|()| folders(dir));
     let result = staged.and_then(|()| {
         files
             .iter()

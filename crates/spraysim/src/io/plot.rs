@@ -35,6 +35,18 @@ impl Series {
     }
 }
 
+/// Where the legend sits, clear of the data.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Legend {
+    /// Upper right corner.
+    #[default]
+    UpperRight,
+    /// Upper left corner.
+    UpperLeft,
+    /// Middle of the right edge.
+    MiddleRight,
+}
+
 /// A chart: title, axis labels (with units) and series.
 #[derive(Clone, Debug, Default)]
 pub struct Chart {
@@ -46,6 +58,8 @@ pub struct Chart {
     pub y_label: String,
     /// The series, drawn in order, coloured by position.
     pub series: Vec<Series>,
+    /// Legend placement.
+    pub legend: Legend,
 }
 
 /// Chart size in pixels.
@@ -61,18 +75,24 @@ fn register_font() {
 }
 
 /// Colours of successive series: black first (references), then distinguishable hues.
-const COLORS: [RGBColor; 5] =
-    [RGBColor(20, 20, 20), RGBColor(214, 39, 40), RGBColor(31, 119, 180), RGBColor(44, 160, 44), RGBColor(148, 103, 189)];
+const COLORS: [RGBColor; 5] = [
+    RGBColor(20, 20, 20),
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+];
 
 /// Axis range covering every finite point with a 5 % margin (a unit range when empty or flat).
 fn bounds(chart: &Chart) -> ((f64, f64), (f64, f64)) {
     let pts = chart.series.iter().flat_map(|s| &s.points).filter(|(x, y)| x.is_finite() && y.is_finite());
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut x0, mut x1, mut y0, mut y1) =
+        (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
     for &(x, y) in pts {
         (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
     }
     let pad = |lo: f64, hi: f64| {
-        if !(lo <= hi) {
+        if lo.is_nan() || hi.is_nan() || lo > hi {
             (0.0, 1.0)
         } else if hi - lo < 1e-300 {
             (lo - 0.5 * lo.abs().max(1.0), hi + 0.5 * hi.abs().max(1.0))
@@ -118,16 +138,20 @@ pub fn render(chart: &Chart) -> Result<image::RgbImage, String> {
                 }
             }
             .map_err(|e| e.to_string())?;
-            drawn.label(s.label.as_str()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-            });
+            drawn
+                .label(s.label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
             if s.mark == Mark::LinePoints {
                 ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
                     .map_err(|e| e.to_string())?;
             }
         }
         ctx.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(match chart.legend {
+                Legend::UpperRight => SeriesLabelPosition::UpperRight,
+                Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+                Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
+            })
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(180, 180, 180))
             .label_font(("sans-serif", 15))
@@ -158,6 +182,7 @@ mod tests {
                 Series::new("line", vec![(0.0, 0.0), (1.0, 1.0)], Mark::Line),
                 Series::new("points", vec![(0.5, 0.2), (f64::NAN, 1.0)], Mark::Points),
             ],
+            legend: Legend::UpperLeft,
         };
         let img = render(&chart).expect("renders");
         let red = img.pixels().filter(|p| p.0 == [214, 39, 40]).count();
