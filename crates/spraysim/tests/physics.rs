@@ -186,34 +186,9 @@ fn rebound_speed_is_restitution_times_impact_speed() {
     );
 }
 
+/// A preset sprayed at a 1.5 m panel over a collector floor for 0.3 s, with `extra` TOML.
 fn panel(preset: &str, extra: &str) -> Scenario {
-    scenario(&format!(
-        r#"
-        [simulation]
-        duration = 0.3
-        [process]
-        preset = "{preset}"
-        [nozzle]
-        position = [-0.3, 0.0, 1.0]
-        axis = [1.0, 0.0, 0.0]
-        [[target]]
-        name = "panel"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [1.5, 1.5]
-        resolution = [256, 256]
-        [[target]]
-        name = "floor"
-        role = "collector"
-        center = [-1.0, 0.0, 0.0]
-        normal = [0.0, 0.0, 1.0]
-        up = [1.0, 0.0, 0.0]
-        size = [4.0, 2.0]
-        resolution = [64, 64]
-        {extra}
-        "#
-    ))
+    spraysim::validation::checks::panel_scene(preset, 0.3, extra)
 }
 
 #[test]

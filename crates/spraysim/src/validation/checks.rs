@@ -429,8 +429,9 @@ pub fn balance(name: &str, sc: &Scenario, threads: usize) -> Balance {
     }
 }
 
-/// A preset sprayed at a 1.5 m panel over a collector floor for `duration` s.
-pub fn panel_scene(preset: &str, duration: f64) -> Scenario {
+/// A preset sprayed at a 1.5 m panel over a collector floor for `duration` s; `extra` is TOML
+/// appended to the scene (obstacles, say).
+pub fn panel_scene(preset: &str, duration: f64, extra: &str) -> Scenario {
     scene(
         &format!(
             r#"
@@ -456,6 +457,7 @@ pub fn panel_scene(preset: &str, duration: f64) -> Scenario {
             up = [1.0, 0.0, 0.0]
             size = [4.0, 2.0]
             resolution = [64, 64]
+            {extra}
             "#
         ),
         preset,

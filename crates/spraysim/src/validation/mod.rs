@@ -514,9 +514,9 @@ fn conservation_section(w: &mut Writer, threads: usize) {
     );
     let scenes = [
         ("default scene (shotcrete)", crate::Scenario::default_scene()),
-        ("painting panel", panel_scene("painting", 0.3)),
-        ("blasting panel", panel_scene("blasting", 0.3)),
-        ("shotcrete panel", panel_scene("shotcrete", 0.3)),
+        ("painting panel", panel_scene("painting", 0.3, "")),
+        ("blasting panel", panel_scene("blasting", 0.3, "")),
+        ("shotcrete panel", panel_scene("shotcrete", 0.3, "")),
         ("shotcrete ceiling, failing", failing_ceiling(8.0)),
     ];
     let mut rows = Vec::new();
