@@ -8,7 +8,7 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-/// 32-bit words reserved per event: far more than any event draws, even with many rejections.
+/// 32-bit words reserved per event: far more than any event draws.
 const WORDS_PER_EVENT: u128 = 1 << 16;
 
 /// Key material for all streams of one run.
