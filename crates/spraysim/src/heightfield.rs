@@ -6,6 +6,15 @@ use glam::DVec3;
 /// Side of the blocks whose maximum thickness is kept, cells.
 const BLOCK: usize = 16;
 
+/// Samples of the layer march skipped at once above low blocks. The march steps at most half a
+/// cell along the face, so `2 BLOCK − 1` steps move less than one block: the samples skipped
+/// stay within the 3 × 3 blocks around the first.
+const SKIP_RUN: usize = 2 * BLOCK - 1;
+
+/// Clearance above the blocks' maximum required to skip, m: far above the rounding of the
+/// heights, so that no skipped sample could have tested inside.
+const SKIP_MARGIN: f64 = 1e-9;
+
 /// A regular grid over a target face recording deposited thickness and impact counts.
 ///
 /// Row index grows along the face's `up`, column index along its `right` (`up × normal`, the
@@ -165,6 +174,21 @@ impl HeightField {
         (gu, gv)
     }
 
+    /// Largest block maximum over the 3 × 3 blocks around the one under `p`, m.
+    fn block_max_around(&self, face: &Face, p: DVec3) -> f64 {
+        let (u, v) = face.local(p);
+        let cell = self.cell_at(u, v) as usize;
+        let (r, c) = ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK);
+        let block_rows = self.block_max.len() / self.block_cols;
+        let mut top = 0.0_f64;
+        for rr in r.saturating_sub(1)..=(r + 1).min(block_rows - 1) {
+            for cc in c.saturating_sub(1)..=(c + 1).min(self.block_cols - 1) {
+                top = top.max(self.block_max[rr * self.block_cols + cc]);
+            }
+        }
+        top
+    }
+
     /// Largest block maximum over the blocks that the segment's footprint on `face` touches, m.
     fn block_max_under(&self, face: &Face, p0: DVec3, p1: DVec3) -> f64 {
         let block = |p: DVec3| {
@@ -216,10 +240,26 @@ impl HeightField {
         let along = (p1 - p0) - face.normal * (h1 - h0);
         let span = along.length() * (s_end - s_start);
         let n = ((span / (0.5 * dx.min(dy))).ceil() as usize).clamp(1, 1 << 16);
+        // Skipping relies on steps of at most half a cell, which the clamp of `n` could break.
+        let fine = span <= n as f64 * 0.5 * dx.min(dy);
+        let sample = |k: usize| s_start + (s_end - s_start) * k as f64 / n as f64;
+        let height = |s: f64| (p0.lerp(p1, s) - face.center).dot(face.normal);
         let mut was_inside = inside(s_start).is_some();
         let mut prev = s_start;
-        for k in 1..=n {
-            let s = s_start + (s_end - s_start) * k as f64 / n as f64;
+        let mut k = 1;
+        while k <= n {
+            let s = sample(k);
+            // Skip a run of samples that all pass above the layer of the blocks around this one:
+            // they would all test outside, so the march finds the same entry, only sooner.
+            let run = SKIP_RUN.min(n - k);
+            if fine && !was_inside && run >= 4 {
+                let bound = self.block_max_around(face, p0.lerp(p1, s)) + SKIP_MARGIN;
+                if height(s) > bound && height(sample(k + run)) > bound {
+                    prev = sample(k + run);
+                    k += run + 1;
+                    continue;
+                }
+            }
             let now = inside(s).is_some();
             if now && !was_inside {
                 // Refine the entry between the last outside sample and this one.
@@ -240,6 +280,7 @@ impl HeightField {
             }
             was_inside = now;
             prev = s;
+            k += 1;
         }
         None
     }
