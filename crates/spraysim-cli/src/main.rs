@@ -62,7 +62,7 @@ enum Command {
         shape: String,
         /// Profile centre in the target's right,up coordinates, m (default: where the nozzle
         /// axis at time 0 meets the target).
-        #[arg(long, value_delimiter = ',', num_args = 2, allow_negative_numbers = true)]
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_name = "U,V")]
         center: Option<Vec<f64>>,
         /// Width of the band of cells averaged for a line profile, m.
         #[arg(long, default_value_t = 0.02)]
@@ -177,11 +177,16 @@ fn dispatch(command: Command) -> Result<()> {
                 "up" => ProfileShape::Up,
                 other => anyhow::bail!("--shape: `{other}` is not one of radial, right, up"),
             };
+            let center = match center.as_deref() {
+                None => None,
+                Some(&[u, v]) => Some([u, v]),
+                Some(other) => anyhow::bail!("--center takes two numbers, U,V in m; got {}", other.len()),
+            };
             let settings = CalibrationSettings {
                 fit,
                 target,
                 shape,
-                center: center.map(|c| [c[0], c[1]]),
+                center,
                 band,
                 shape_only,
                 max_iterations,

@@ -172,6 +172,11 @@ fn calibrate_refuses_bad_input_and_writes_nothing() {
         (vec!["calibrate", &scenario, &profile, "--target", "ceiling"], "no target named `ceiling`"),
         (vec!["calibrate", "polar.toml", &profile], "truncated_normal"),
         (vec!["calibrate", &scenario, "missing.csv"], "missing.csv"),
+        (vec!["calibrate", &scenario, &profile, "--center", "0.1"], "two numbers"),
+        (
+            vec!["calibrate", &scenario, &profile, "--center=0.3,-0.4", "--shape", "up"],
+            "no cell of the target",
+        ),
     ] {
         let mut args = args.clone();
         args.extend(["-o", "never"]);
