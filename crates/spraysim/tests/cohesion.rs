@@ -3,7 +3,7 @@
 use glam::DVec3;
 use spraysim::cohesion::{Strength, analyse};
 use spraysim::heightfield::HeightField;
-use spraysim::{Scenario, Simulation};
+use spraysim::Simulation;
 
 const RHO: f64 = 2300.0;
 const G: DVec3 = DVec3::new(0.0, 0.0, -9.81);
@@ -56,9 +56,7 @@ fn small_patches_hang_on_and_large_ones_fall() {
     assert_eq!(large.regions[0].cells.len(), 1600);
 }
 
-/// A face of 0.5 m × 0.5 m sprayed evenly to its edges (a 0.7 m × 0.7 m rectangular emitter
-/// 0.2 m in front of it, so that about half of `flow` lands on the face) with a collector floor
-/// below, analysed every `interval` s.
+/// The validation module's sprayed face at 10⁵ particles/s, run to the end.
 fn sprayed(
     normal: [f64; 3],
     up: [f64; 3],
@@ -67,58 +65,7 @@ fn sprayed(
     duration: f64,
     interval: f64,
 ) -> Simulation {
-    let n = DVec3::from_array(normal);
-    let nozzle = DVec3::from_array(center) + n * 0.2;
-    let text = format!(
-        r#"
-        [simulation]
-        duration = {duration}
-        [process]
-        preset = "shotcrete"
-        flow_rate = {flow}
-        [process.impact]
-        rebound_model = "never"
-        # Weak cohesion: the few cells that particle noise keeps under the threshold must not
-        # hold the whole layer, so that the test measures the adhesive thresholds.
-        [process.cohesion]
-        interval = {interval}
-        cohesion = 20.0
-        [emitter]
-        shape = "rectangle"
-        width = 0.7
-        height = 0.7
-        cone_angle = 0.0
-        spawn_rate = 100000.0
-        speed = [10.0, 10.0]
-        [nozzle]
-        position = {nozzle:?}
-        axis = {axis:?}
-        roll = {roll}
-        [[target]]
-        name = "face"
-        center = {center:?}
-        normal = {normal:?}
-        up = {up:?}
-        size = [0.5, 0.5]
-        resolution = [50, 50]
-        splat_radius = 0.02
-        [[target]]
-        name = "floor"
-        role = "collector"
-        center = [0.0, 0.0, -1.0]
-        normal = [0.0, 0.0, 1.0]
-        up = [1.0, 0.0, 0.0]
-        size = [4.0, 4.0]
-        resolution = [40, 40]
-        [domain]
-        min = [-3.0, -3.0, -2.0]
-        max = [3.0, 3.0, 3.0]
-        "#,
-        nozzle = nozzle.to_array(),
-        axis = (-n).to_array(),
-        roll = 0.0,
-    );
-    let sc = Scenario::from_toml(&text, "sprayed").unwrap_or_else(|e| panic!("{e}"));
+    let sc = spraysim::validation::checks::sprayed_face(normal, up, center, flow, duration, interval, 1e5);
     let mut sim = Simulation::new(&sc).expect("valid");
     sim.run(|_| {});
     sim

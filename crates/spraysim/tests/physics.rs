@@ -93,38 +93,10 @@ fn spawn_count_with_fractional_carry_is_exact() {
     }
 }
 
-/// A straight-down jet onto a face tilted by `theta_deg`: gravity acts along the flight path,
-/// so every impact happens at exactly `theta_deg` from the normal.
+/// 2 × 10⁴ particles straight down onto a shotcrete plate tilted by `theta_deg`; `extra` goes
+/// into `[process.impact]`.
 fn tilted_face(theta_deg: f64, alpha: f64, extra: &str) -> Scenario {
-    let t = theta_deg.to_radians();
-    scenario(&format!(
-        r#"
-        [simulation]
-        duration = 0.2
-        seed = 7
-        [process]
-        preset = "shotcrete"
-        [process.impact]
-        alpha = {alpha}
-        {extra}
-        [emitter]
-        shape = "point"
-        cone_angle = 0.0
-        spawn_rate = 100000.0
-        [nozzle]
-        position = [0.0, 0.0, 0.3]
-        axis = [0.0, 0.0, -1.0]
-        [[target]]
-        name = "plate"
-        center = [0.0, 0.0, 0.0]
-        normal = [{}, 0.0, {}]
-        up = [0.0, 1.0, 0.0]
-        size = [0.5, 0.5]
-        resolution = [64, 64]
-        "#,
-        t.sin(),
-        t.cos()
-    ))
+    spraysim::validation::checks::tilted_plate(theta_deg, alpha, 2e4, 7, extra)
 }
 
 #[test]

@@ -279,18 +279,13 @@ pub struct ReboundFraction {
     pub conserved: bool,
 }
 
-/// A straight-down jet of `particles` onto a shotcrete plate tilted by `theta_deg`: gravity
-/// acts along the flight path, so every impact happens at exactly that angle. Runs with the
-/// same `seed` share their random numbers, so their errors are correlated.
-pub fn rebound_fraction(
-    theta_deg: f64,
-    alpha: f64,
-    particles: f64,
-    seed: u64,
-    threads: usize,
-) -> ReboundFraction {
+/// A point jet of `particles` over 0.2 s, straight down onto a 0.5 m shotcrete plate tilted by
+/// `theta_deg` from horizontal, with material factor `alpha`; `impact` is TOML added to
+/// `[process.impact]` (a `rebound_model`, say). Gravity acts along the flight path, so every
+/// impact happens at exactly `theta_deg` from the plate's normal.
+pub fn tilted_plate(theta_deg: f64, alpha: f64, particles: f64, seed: u64, impact: &str) -> Scenario {
     let t = theta_deg.to_radians();
-    let sc = scene(
+    scene(
         &format!(
             r#"
             [simulation]
@@ -300,6 +295,7 @@ pub fn rebound_fraction(
             preset = "shotcrete"
             [process.impact]
             alpha = {alpha}
+            {impact}
             [emitter]
             shape = "point"
             cone_angle = 0.0
@@ -320,7 +316,20 @@ pub fn rebound_fraction(
             rate = particles / 0.2,
         ),
         "tilted plate",
-    );
+    )
+}
+
+/// A straight-down jet of `particles` onto a shotcrete plate tilted by `theta_deg`: gravity
+/// acts along the flight path, so every impact happens at exactly that angle. Runs with the
+/// same `seed` share their random numbers, so their errors are correlated.
+pub fn rebound_fraction(
+    theta_deg: f64,
+    alpha: f64,
+    particles: f64,
+    seed: u64,
+    threads: usize,
+) -> ReboundFraction {
+    let sc = tilted_plate(theta_deg, alpha, particles, seed, "");
     let m = run(&sc, threads).metrics();
     ReboundFraction {
         theta_deg,
@@ -464,9 +473,21 @@ pub fn panel_scene(preset: &str, duration: f64, extra: &str) -> Scenario {
     )
 }
 
-/// A 0.5 m ceiling panel sprayed evenly upwards with shotcrete until the layer fails in
-/// pull-off, with a collector floor that catches what falls.
-pub fn failing_ceiling(duration: f64) -> Scenario {
+/// A 0.5 m × 0.5 m shotcrete face (`normal`, `up`, `center`) sprayed evenly to its edges by a
+/// 0.7 m × 0.7 m rectangular emitter 0.2 m in front of it, so that about half of `flow` (m³/s)
+/// lands on it, at `spawn_rate` particles/s for `duration` s, with a collector floor below and
+/// cohesion analysed every `interval` s.
+pub fn sprayed_face(
+    normal: [f64; 3],
+    up: [f64; 3],
+    center: [f64; 3],
+    flow: f64,
+    duration: f64,
+    interval: f64,
+    spawn_rate: f64,
+) -> Scenario {
+    let n = DVec3::from_array(normal);
+    let nozzle = DVec3::from_array(center) + n * 0.2;
     scene(
         &format!(
             r#"
@@ -474,27 +495,29 @@ pub fn failing_ceiling(duration: f64) -> Scenario {
             duration = {duration}
             [process]
             preset = "shotcrete"
-            flow_rate = 4.9e-3
+            flow_rate = {flow}
             [process.impact]
             rebound_model = "never"
+            # Weak cohesion: the few cells that particle noise keeps under the threshold must not
+            # hold the whole layer, so that failure follows the adhesive thresholds.
             [process.cohesion]
-            interval = 0.1
+            interval = {interval}
             cohesion = 20.0
             [emitter]
             shape = "rectangle"
             width = 0.7
             height = 0.7
             cone_angle = 0.0
-            spawn_rate = 20000.0
+            spawn_rate = {spawn_rate}
             speed = [10.0, 10.0]
             [nozzle]
-            position = [0.0, 0.0, 0.8]
-            axis = [0.0, 0.0, 1.0]
+            position = {nozzle:?}
+            axis = {axis:?}
             [[target]]
-            name = "ceiling"
-            center = [0.0, 0.0, 1.0]
-            normal = [0.0, 0.0, -1.0]
-            up = [1.0, 0.0, 0.0]
+            name = "face"
+            center = {center:?}
+            normal = {normal:?}
+            up = {up:?}
             size = [0.5, 0.5]
             resolution = [50, 50]
             splat_radius = 0.02
@@ -509,8 +532,15 @@ pub fn failing_ceiling(duration: f64) -> Scenario {
             [domain]
             min = [-3.0, -3.0, -2.0]
             max = [3.0, 3.0, 3.0]
-            "#
+            "#,
+            nozzle = nozzle.to_array(),
+            axis = (-n).to_array(),
         ),
-        "ceiling",
+        "sprayed face",
     )
+}
+
+/// A ceiling sprayed upwards (10 mm/s on the face) until the layer fails in pull-off.
+pub fn failing_ceiling(duration: f64) -> Scenario {
+    sprayed_face([0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], 4.9e-3, duration, 0.1, 20000.0)
 }
