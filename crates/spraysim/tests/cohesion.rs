@@ -1,9 +1,9 @@
 //! Cohesive failure against its analytic thresholds, and mass conservation through failure.
 
 use glam::DVec3;
+use spraysim::Simulation;
 use spraysim::cohesion::{Strength, analyse};
 use spraysim::heightfield::HeightField;
-use spraysim::Simulation;
 
 const RHO: f64 = 2300.0;
 const G: DVec3 = DVec3::new(0.0, 0.0, -9.81);
