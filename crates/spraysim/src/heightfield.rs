@@ -15,6 +15,20 @@ const SKIP_RUN: usize = 2 * BLOCK - 1;
 /// heights, so that no skipped sample could have tested inside.
 const SKIP_MARGIN: f64 = 1e-9;
 
+/// Where a path meets the deposited layer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerContact {
+    /// Fraction of the path at the contact.
+    pub s: f64,
+    /// Contact point, m.
+    pub point: DVec3,
+    /// The layer's unit normal there, from the thickness gradient.
+    pub normal: DVec3,
+    /// The cell the material settles in: the one entered from above, or, entering a taller
+    /// column through its side, the column the particle was over.
+    pub cell: u32,
+}
+
 /// A regular grid over a target face recording deposited thickness and impact counts.
 ///
 /// Row index grows along the face's `up`, column index along its `right` (`up × normal`, the
@@ -206,11 +220,10 @@ impl HeightField {
         top
     }
 
-    /// Where the segment `p0 → p1` first enters the layer on the front of `face`: the segment
-    /// fraction, the point and the layer's unit normal there (from the thickness gradient). The
-    /// layer is the face raised by each cell's thickness; a segment that starts inside it enters
-    /// only after leaving it. `None` if it does not enter before reaching the bare face.
-    pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<(f64, DVec3, DVec3)> {
+    /// Where the segment `p0 → p1` first enters the layer on the front of `face`. The layer is
+    /// the face raised by each cell's thickness; a segment that starts inside it enters only
+    /// after leaving it. `None` if it does not enter before reaching the bare face.
+    pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
         let h0 = (p0 - face.center).dot(face.normal);
         let h1 = (p1 - face.center).dot(face.normal);
         if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) > self.max_thickness {
@@ -273,10 +286,20 @@ impl HeightField {
                     }
                 }
                 // `b` stays inside throughout the bisection.
-                let cell = inside(b)?;
-                let (gu, gv) = self.gradient(cell);
+                let entered = inside(b)?;
+                let (gu, gv) = self.gradient(entered);
                 let normal = (face.normal - face.right * gu - face.up * gv).normalize();
-                return Some((b, p0.lerp(p1, b), normal));
+                // Through the side of a taller column, the material settles in the column the
+                // particle came down (as in ballistic deposition); stacking it on the taller one
+                // would let every column that gets ahead catch its neighbours' flux and grow
+                // into a needle.
+                let (u, v) = face.local(p0.lerp(p1, a));
+                let cell = if u.abs() <= face.half_width && v.abs() <= face.half_height {
+                    self.cell_at(u, v)
+                } else {
+                    entered
+                };
+                return Some(LayerContact { s: b, point: p0.lerp(p1, b), normal, cell });
             }
             was_inside = now;
             prev = s;

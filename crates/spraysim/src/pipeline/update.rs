@@ -5,6 +5,7 @@
 
 use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceKind};
 use crate::erosion::removed_volume;
+use crate::heightfield::LayerContact;
 use crate::impact::{ImpactModel, Outcome};
 use crate::integrator::{Integrator, Motion};
 use crate::rng::StreamKey;
@@ -179,16 +180,22 @@ impl UpdateContext<'_> {
     }
 
     /// Flies from `x` with velocity `v` for `dt`: the end position and velocity, and the first
-    /// hit on the way with the velocity at impact. A deposited layer is struck on its top,
-    /// found along the straight chord of the step (for the exact integrator, the arc's chord,
-    /// which it leaves by at most g Δt²/8).
-    fn fly(&self, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3, Option<(usize, Hit, DVec3)>) {
+    /// hit on the way. A deposited layer is struck on its top, found along the straight chord
+    /// of the step (for the exact integrator, the arc's chord, which it leaves by at most
+    /// g Δt²/8).
+    fn fly(&self, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3, Option<Strike>) {
         let (x1, v1) = self.motion.advance(x, v, dt);
-        let mut hit = self.fly_bare(x, v, x1, v1, dt);
+        let mut hit = self.fly_bare(x, v, x1, v1, dt).map(|(surface, hit, velocity)| Strike {
+            surface,
+            hit,
+            velocity,
+            cell: None,
+        });
         // Target faces come first among the scene's surfaces, in target order.
         for (i, target) in self.targets.iter().enumerate() {
-            if let Some((s, point, normal)) = target.field.layer_contact(&target.face, x, x1)
-                && hit.is_none_or(|(_, h, _)| s < h.t)
+            if let Some(LayerContact { s, point, normal, cell }) =
+                target.field.layer_contact(&target.face, x, x1)
+                && hit.is_none_or(|h| s < h.hit.t)
             {
                 let v_in = match self.motion.integrator {
                     Integrator::Exact => v + self.motion.gravity * (s * dt),
@@ -202,7 +209,12 @@ impl UpdateContext<'_> {
                     let n = target.face.normal;
                     (-(v_in - n * v_in.dot(n))).try_normalize().unwrap_or(n)
                 };
-                hit = Some((i, Hit { t: s, point, normal }, v_in));
+                hit = Some(Strike {
+                    surface: i,
+                    hit: Hit { t: s, point, normal },
+                    velocity: v_in,
+                    cell: Some(cell),
+                });
             }
         }
         (x1, v1, hit)
@@ -234,7 +246,7 @@ impl UpdateContext<'_> {
         let mut remaining = self.dt;
         for _ in 0..self.max_impacts {
             let (x_end, v_end, hit) = self.fly(x, v, remaining);
-            let Some((s, hit, v_in)) = hit else {
+            let Some(Strike { surface: s, hit, velocity: v_in, cell }) = hit else {
                 p.pos = x_end;
                 p.vel = v_end;
                 return false;
@@ -246,8 +258,11 @@ impl UpdateContext<'_> {
             let front = match surface.kind {
                 SurfaceKind::Target(t) if hit.normal.dot(self.targets[t].face.normal) > 0.0 => {
                     let target = &self.targets[t];
-                    let (u, w) = target.face.local(hit.point);
-                    Some((target, target.field.cell_at(u, w)))
+                    let cell = cell.unwrap_or_else(|| {
+                        let (u, w) = target.face.local(hit.point);
+                        target.field.cell_at(u, w)
+                    });
+                    Some((target, cell))
                 }
                 _ => None,
             };
@@ -311,6 +326,18 @@ impl UpdateContext<'_> {
         p.vel = v;
         false
     }
+}
+
+/// The first hit of a flight.
+#[derive(Clone, Copy)]
+struct Strike {
+    /// Index of the surface struck (targets first, then obstacles).
+    surface: usize,
+    hit: Hit,
+    /// Velocity at impact, m/s.
+    velocity: DVec3,
+    /// For a hit on a deposited layer, the cell the material settles in.
+    cell: Option<u32>,
 }
 
 /// Working copy of one particle's state.
