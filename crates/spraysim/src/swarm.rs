@@ -15,8 +15,8 @@ pub mod flags {
 
 /// All particles of a run: in flight, or retired and waiting for compaction.
 ///
-/// Per particle: position and velocity (2 × 24 bytes), age and volume (2 × 4), id (4), impact
-/// count (2) and flags (1): 63 bytes.
+/// Per particle: position and velocity (2 × 24 bytes), age and volume (2 × 4), id (4), wake
+/// step (4), impact count (2) and flags (1): 67 bytes.
 #[derive(Clone, Debug, Default)]
 pub struct Swarm {
     /// Position, m.
@@ -33,13 +33,17 @@ pub struct Swarm {
     pub impacts: Vec<u16>,
     /// Status bits, see [`flags`].
     pub flags: Vec<u8>,
+    /// Step at which the particle is next updated. With the exact integrator, a particle whose
+    /// flight certainly meets nothing for a while is moved there in closed form and skips the
+    /// steps in between; its position and velocity are then those at the start of that step.
+    pub wake: Vec<u32>,
 }
 
 impl Swarm {
     /// Bytes of storage per particle slot, summed over the arrays.
     pub const BYTES_PER_PARTICLE: usize = 2 * std::mem::size_of::<DVec3>()
         + 2 * std::mem::size_of::<f32>()
-        + std::mem::size_of::<u32>()
+        + 2 * std::mem::size_of::<u32>()
         + std::mem::size_of::<u16>()
         + std::mem::size_of::<u8>();
 
@@ -72,6 +76,7 @@ impl Swarm {
         self.id.push(id);
         self.impacts.push(0);
         self.flags.push(bits);
+        self.wake.push(0);
     }
 
     /// Drops retired particles, keeping the others in order (so processing order, and with it
@@ -89,6 +94,7 @@ impl Swarm {
         retain(&mut self.id, &keep);
         retain(&mut self.impacts, &keep);
         retain(&mut self.flags, &keep);
+        retain(&mut self.wake, &keep);
     }
 }
 
@@ -98,7 +104,7 @@ mod tests {
 
     #[test]
     fn a_particle_fits_the_64_byte_budget() {
-        assert_eq!(Swarm::BYTES_PER_PARTICLE, 63);
+        assert_eq!(Swarm::BYTES_PER_PARTICLE, 67);
         let mut s = Swarm::default();
         s.push(DVec3::ONE, DVec3::X, 1e-6, 7);
         s.push(DVec3::ZERO, DVec3::Y, 2e-6, 8);

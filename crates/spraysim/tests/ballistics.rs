@@ -29,3 +29,57 @@ fn euler_schemes_converge_at_first_order() {
         assert!(errors[0] > 1e-4, "{scheme:?} suspiciously exact: {errors:?}");
     }
 }
+
+/// The exact integrator skips the steps of free flight: on the reference wall (a spray, a
+/// rebar mesh, a collector floor) it updates particles several times less often than it
+/// simulates particle-steps, and lands them where stepping through every step does: the same
+/// fates to within a few particles, and the same layer to within sampling noise.
+#[test]
+fn exact_flights_skip_open_space_without_changing_where_particles_land() {
+    use spraysim::bench::ReferenceScene;
+    use spraysim::{Scenario, Simulation};
+    let sc = ReferenceScene {
+        spawn_rate: 2e5,
+        duration: 0.3,
+        resolution: 256,
+        integrator: Integrator::Exact,
+        ..Default::default()
+    }
+    .scenario();
+    let run = |lazy: bool, sc: &Scenario| {
+        let mut sim = Simulation::new(sc).expect("valid");
+        sim.set_lazy_flight(lazy);
+        sim.run(|_| {});
+        sim
+    };
+    let (lazy, every) = (run(true, &sc), run(false, &sc));
+    assert_eq!(every.particle_updates(), every.particle_steps());
+    let (ls, es) = (lazy.particle_steps(), every.particle_steps());
+    assert!(ls.abs_diff(es) * 1000 < es, "the same flights are simulated: {ls} vs {es} particle-steps");
+    assert!(
+        lazy.particle_updates() * 2 < every.particle_updates(),
+        "{} updates with skipping, {} without",
+        lazy.particle_updates(),
+        every.particle_updates()
+    );
+    let (a, b) = (lazy.metrics(), every.metrics());
+    assert_eq!(a.emitted.count, b.emitted.count);
+    // Skipping moves a particle by rounding only (1e-15 m), which can tip a borderline random
+    // draw of the impact model for a handful of particles.
+    let close = |x: u64, y: u64| x.abs_diff(y) <= 1 + y / 500;
+    assert!(
+        close(a.fates.stuck_on_targets.count, b.fates.stuck_on_targets.count),
+        "{:?} vs {:?}",
+        a.fates,
+        b.fates
+    );
+    assert!(
+        close(a.fates.stuck_on_obstacles.count, b.fates.stuck_on_obstacles.count),
+        "{:?} vs {:?}",
+        a.fates,
+        b.fates
+    );
+    assert!(close(a.fates.left_domain.count, b.fates.left_domain.count), "{:?} vs {:?}", a.fates, b.fates);
+    let (wa, wb) = (&lazy.targets()[0].field, &every.targets()[0].field);
+    assert!((wa.volume() - wb.volume()).abs() <= 0.005 * wb.volume(), "{} vs {}", wa.volume(), wb.volume());
+}

@@ -5,6 +5,27 @@
 use super::{Cylinder, Disk, Face, Hit, OrientedBox, Shape, Sphere};
 use glam::DVec3;
 
+/// First `τ ≥ 0` at which `h(τ) = a τ² + b τ + c` becomes positive (0 if it already is or is
+/// rising from 0; infinite if it never does).
+fn first_rise(a: f64, b: f64, c: f64) -> f64 {
+    if c > 0.0 || (c == 0.0 && (b > 0.0 || (b == 0.0 && a > 0.0))) {
+        return 0.0;
+    }
+    if a == 0.0 {
+        return if b > 0.0 { -c / b } else { f64::INFINITY };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 || (a < 0.0 && b <= 0.0) {
+        // Never reaches 0, or (concave) falling from its start.
+        return f64::INFINITY;
+    }
+    // Both roots without cancellation; with c ≤ 0, a convex h has one positive root and a
+    // rising concave one two, of which the first counts.
+    let q = -0.5 * (b + disc.sqrt().copysign(b));
+    let (r1, r2) = (q / a, if q != 0.0 { c / q } else { 0.0 });
+    if a > 0.0 { r1.max(r2) } else { r1.min(r2) }
+}
+
 /// A flight under constant acceleration over `[0, duration]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arc {
@@ -29,6 +50,19 @@ impl Arc {
     #[inline]
     pub fn velocity(&self, tau: f64) -> DVec3 {
         self.v0 + self.g * tau
+    }
+
+    /// First time (s) at which the arc, started inside `b`, leaves it (0 if it starts outside;
+    /// infinite if it never leaves). The duration plays no part.
+    pub fn exit_time(&self, b: &super::Aabb) -> f64 {
+        let mut first = f64::INFINITY;
+        for a in 0..3 {
+            let (x, v, half_g) = (self.x0[a], self.v0[a], 0.5 * self.g[a]);
+            // Past the upper bound: h = x(τ) − max > 0; past the lower: h = min − x(τ) > 0.
+            first = first.min(first_rise(half_g, v, x - b.max[a]));
+            first = first.min(first_rise(-half_g, -v, b.min[a] - x));
+        }
+        first
     }
 
     /// Bounding box of the arc: endpoints and, per axis, the apex if it falls inside.

@@ -115,6 +115,13 @@ impl Scene {
         best
     }
 
+    /// How long (s, at most `horizon`) the flight from `x` with velocity `v` under
+    /// acceleration `g` certainly hits nothing: 0 near any surface or when unbounded planes
+    /// exist (see `Grid::free_flight`).
+    pub fn free_flight(&self, x: DVec3, v: DVec3, g: DVec3, horizon: f64) -> f64 {
+        if self.unbounded.is_empty() { self.grid.free_flight(x, v, g, horizon) } else { 0.0 }
+    }
+
     /// True if the arc certainly hits nothing (it stays inside one empty neighbourhood).
     #[inline]
     pub fn arc_is_clear(&self, arc: &Arc) -> bool {

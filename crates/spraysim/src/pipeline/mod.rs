@@ -14,10 +14,10 @@ mod setup;
 mod update;
 
 use crate::cohesion::{self, Strength};
-use crate::collision::{Aabb, Scene, SurfaceKind};
+use crate::collision::{Aabb, Arc, Scene, SurfaceKind};
 use crate::emitter::Emitter;
 use crate::impact::ImpactModel;
-use crate::integrator::Motion;
+use crate::integrator::{Integrator, Motion};
 use crate::metrics::{FailureEvent, Metrics, PathTally, Tally};
 use crate::nozzle::NozzlePath;
 use crate::rng::StreamKey;
@@ -93,6 +93,7 @@ pub struct Simulation {
     key: StreamKey,
     next_id: u64,
     particle_steps: u64,
+    particle_updates: u64,
     /// Steps between cohesion analyses (0: off).
     cohesion_every: u64,
     /// Steps between drip passes (0: off).
@@ -101,6 +102,8 @@ pub struct Simulation {
     path: PathTally,
     impact_log: Vec<LoggedImpact>,
     pool: Option<rayon::ThreadPool>,
+    /// See [`Simulation::set_lazy_flight`].
+    lazy_flight: bool,
 }
 
 impl Simulation {
@@ -152,6 +155,14 @@ impl Simulation {
     /// Particle-steps so far: Σ over steps of the particles in flight during that step.
     pub fn particle_steps(&self) -> u64 {
         self.particle_steps
+    }
+
+    /// Particle updates so far: the particle-steps not skipped in free flight (fewer than
+    /// [`Simulation::particle_steps`] only with the exact integrator; see
+    /// [`Simulation::set_lazy_flight`]). The work done, where particle-steps are the work
+    /// simulated.
+    pub fn particle_updates(&self) -> u64 {
+        self.particle_updates
     }
 
     /// Steps the scenario's duration takes (the last one may end past the duration).
@@ -300,12 +311,50 @@ impl Simulation {
     /// Keeps the broad phase aware of every layer: when a target's layer outgrows the reach it
     /// was indexed with, the reach doubles and the scene is re-indexed (a few times per run).
     fn grow_layer_allowances(&mut self) {
+        let mut grown = false;
         for (i, t) in self.targets.iter().enumerate() {
             // Target faces come first among the surfaces, in target order.
             let top = t.field.max_thickness();
             if top > self.scene.surfaces()[i].layer {
                 self.scene.set_layer_allowance(i, (2.0 * top).max(0.01));
+                grown = true;
             }
+        }
+        if grown {
+            self.wake_all();
+        }
+    }
+
+    /// With the exact integrator, particles in free flight skip the steps in which they
+    /// certainly meet nothing (see [`crate::swarm::Swarm::wake`]); on by default. Turning it
+    /// off steps every particle through every step, for comparison: results agree to rounding.
+    pub fn set_lazy_flight(&mut self, on: bool) {
+        self.lazy_flight = on;
+        if !on {
+            self.wake_all();
+        }
+    }
+
+    fn lazy(&self) -> bool {
+        self.lazy_flight && self.motion.integrator == Integrator::Exact
+    }
+
+    /// Brings every sleeping particle back to the present (in closed form) so that it is
+    /// updated next step: the scene it was cleared against has grown.
+    fn wake_all(&mut self) {
+        let now = self.step + 1;
+        let (dt, g) = (self.scenario.simulation.dt, self.motion.gravity);
+        let s = &mut self.swarm;
+        for i in 0..s.len() {
+            let wake = u64::from(s.wake[i]);
+            if wake > now {
+                let back = -((wake - now) as f64 * dt);
+                let flight = Arc { x0: s.pos[i], v0: s.vel[i], g, duration: 0.0 };
+                s.pos[i] = flight.at(back);
+                s.vel[i] = flight.velocity(back);
+                s.age[i] = (f64::from(s.age[i]) + back) as f32;
+            }
+            s.wake[i] = 0;
         }
     }
 
@@ -364,6 +413,8 @@ impl Simulation {
             time: self.time(),
             log_fraction: self.scenario.output.impact_log,
             log_salt: self.scenario.simulation.seed,
+            step: self.step,
+            lazy: self.lazy(),
         };
         let s = &mut self.swarm;
         self.particle_steps += (s.len() - self.retired) as u64;
@@ -376,7 +427,8 @@ impl Simulation {
             .zip(s.id.chunks(CHUNK))
             .zip(s.impacts.chunks_mut(CHUNK))
             .zip(s.flags.chunks_mut(CHUNK))
-            .map(|((((((pos, vel), age), volume), id), impacts), flags)| SwarmChunk {
+            .zip(s.wake.chunks_mut(CHUNK))
+            .map(|(((((((pos, vel), age), volume), id), impacts), flags), wake)| SwarmChunk {
                 pos,
                 vel,
                 age,
@@ -384,6 +436,7 @@ impl Simulation {
                 id,
                 impacts,
                 flags,
+                wake,
             })
             .collect();
         let work = || chunks.into_par_iter().map(|c| ctx.run_chunk(c)).collect();
@@ -450,6 +503,7 @@ impl Simulation {
             t.released_left = t.released_left + out.released_left;
             t.released_expired = t.released_expired + out.released_expired;
             self.retired += out.retired;
+            self.particle_updates += out.updated;
             self.impact_log.extend(out.log);
         }
         debug_assert_eq!(self.retired, self.swarm.flags.iter().filter(|&&f| f & flags::ALIVE == 0).count());

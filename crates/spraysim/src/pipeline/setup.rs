@@ -157,6 +157,7 @@ pub(super) fn build(scenario: &Scenario) -> Result<Simulation, SetupError> {
         key: StreamKey::new(s.seed),
         next_id: 0,
         particle_steps: 0,
+        particle_updates: 0,
         cohesion_every: if sc.process.cohesion.interval > 0.0 {
             (sc.process.cohesion.interval / s.dt).round().max(1.0) as u64
         } else {
@@ -171,6 +172,7 @@ pub(super) fn build(scenario: &Scenario) -> Result<Simulation, SetupError> {
         path: Default::default(),
         impact_log: Vec::new(),
         pool: None,
+        lazy_flight: true,
     })
 }
 

@@ -48,6 +48,8 @@ pub(crate) struct ChunkOutcome {
     /// Released material that expired.
     pub released_expired: Amount,
     pub retired: usize,
+    /// Particles updated (not asleep).
+    pub updated: u64,
     /// Sampled impacts for the impact log.
     pub log: Vec<LoggedImpact>,
 }
@@ -99,6 +101,10 @@ pub(crate) struct UpdateContext<'a> {
     /// Share of impacts logged (0: none) and the salt of the sampling hash.
     pub log_fraction: f64,
     pub log_salt: u64,
+    /// This step's index.
+    pub step: u64,
+    /// Particles in free flight skip steps (exact integrator only).
+    pub lazy: bool,
 }
 
 /// Mutable views of one chunk of the swarm's arrays.
@@ -110,6 +116,7 @@ pub(crate) struct SwarmChunk<'a> {
     pub id: &'a [u32],
     pub impacts: &'a mut [u16],
     pub flags: &'a mut [u8],
+    pub wake: &'a mut [u32],
 }
 
 impl UpdateContext<'_> {
@@ -117,9 +124,10 @@ impl UpdateContext<'_> {
     pub fn run_chunk(&self, mut chunk: SwarmChunk<'_>) -> ChunkOutcome {
         let mut out = ChunkOutcome::default();
         for i in 0..chunk.pos.len() {
-            if chunk.flags[i] & flags::ALIVE == 0 {
+            if chunk.flags[i] & flags::ALIVE == 0 || u64::from(chunk.wake[i]) > self.step {
                 continue;
             }
+            out.updated += 1;
             let age = f64::from(chunk.age[i]) + self.dt;
             chunk.age[i] = age as f32;
             let (x, v) = (chunk.pos[i], chunk.vel[i]);
@@ -128,11 +136,40 @@ impl UpdateContext<'_> {
             if self.is_clear(x, v, x1) && self.domain.contains(x1) && age <= self.max_lifetime {
                 chunk.pos[i] = x1;
                 chunk.vel[i] = v1;
-                continue;
+            } else {
+                self.advance_slow(&mut chunk, i, age, &mut out);
             }
-            self.advance_slow(&mut chunk, i, age, &mut out);
+            if self.lazy && chunk.flags[i] & flags::ALIVE != 0 {
+                self.doze(&mut chunk, i);
+            }
         }
         out
+    }
+
+    /// Lets particle `i` skip the coming steps that its flight certainly spends in open space,
+    /// inside the domain and within its lifetime: it moves to the start of the first step that
+    /// needs a look, in closed form, and sleeps until then. What a step would find is then
+    /// found at the step where it happens, so a particle costs work per event, not per step.
+    #[inline]
+    fn doze(&self, chunk: &mut SwarmChunk<'_>, i: usize) {
+        let (x, v, age) = (chunk.pos[i], chunk.vel[i], f64::from(chunk.age[i]));
+        let g = self.motion.gravity;
+        let flight = Arc { x0: x, v0: v, g, duration: 0.0 };
+        // Every skipped step must keep the particle young enough, clear of every surface and
+        // inside the domain (the cheaper tests first: most particles near a surface stop here).
+        let open = self.scene.free_flight(x, v, g, self.max_lifetime - age);
+        if open < 2.0 * self.dt {
+            return;
+        }
+        let steps = (open.min(flight.exit_time(&self.domain)) / self.dt).floor();
+        if steps < 2.0 {
+            return;
+        }
+        let tau = steps * self.dt;
+        chunk.pos[i] = flight.at(tau);
+        chunk.vel[i] = flight.velocity(tau);
+        chunk.age[i] = (age + tau) as f32;
+        chunk.wake[i] = u32::try_from(self.step + 1 + steps as u64).unwrap_or(u32::MAX);
     }
 
     /// The full step of particle `i`: impacts, then retirement checks.
