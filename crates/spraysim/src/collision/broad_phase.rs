@@ -29,13 +29,16 @@ pub struct Grid {
     items: Vec<u32>,
     /// Per cell: it and its 26 neighbours hold no surface.
     clear: Vec<bool>,
-    /// Per cell: Chebyshev distance in cells to the nearest cell holding a surface, capped at
-    /// [`DISTANCE_CAP`]: the cells within `d − 1` of it along every axis hold none.
+    /// Per block of 2 × 2 × 2 cells: Chebyshev distance in blocks to the nearest block holding
+    /// a surface, capped at [`DISTANCE_CAP`]: the blocks within `d − 1` of it hold none. Blocks
+    /// keep its cost to build small beside the grid's.
     distance: Vec<u8>,
+    /// Blocks along each axis.
+    blocks: IVec3,
 }
 
-/// Largest distance the distance map records, cells: a free flight crosses open space in jumps
-/// of up to this many cells.
+/// Largest distance the distance map records, blocks: a free flight crosses open space in
+/// jumps of up to twice this many blocks.
 const DISTANCE_CAP: u8 = 8;
 
 /// Most jumps of one free-flight query.
@@ -64,6 +67,7 @@ impl Grid {
             items: Vec::new(),
             clear: Vec::new(),
             distance: Vec::new(),
+            blocks: (dims + 1) / 2,
         };
         let n = (dims.x * dims.y * dims.z) as usize;
         // Two passes, count then fill, build the compressed rows without a list per cell.
@@ -80,8 +84,8 @@ impl Grid {
         });
         grid.start = count;
         grid.items = items;
+        grid.clear = grid.empty_neighbourhoods();
         grid.distance = grid.distances();
-        grid.clear = grid.distance.iter().map(|&d| d >= 2).collect();
         grid
     }
 
@@ -102,21 +106,36 @@ impl Grid {
         }
     }
 
-    /// Per cell: the Chebyshev distance in cells to the nearest occupied cell, capped at
-    /// [`DISTANCE_CAP`]. The occupancy is grown one cell at a time; each growth dilates along
-    /// x, then y, then z (separable, so three passes instead of 27 lookups per cell), each a
-    /// plain loop over rows so that it runs at memory speed on millions of cells.
-    fn distances(&self) -> Vec<u8> {
+    /// The occupancy of each cell, 0 or 1.
+    fn occupancy(&self) -> Vec<u8> {
         let n = self.start.len() - 1;
-        let mut reached: Vec<u8> =
-            self.start[..n].iter().zip(&self.start[1..]).map(|(a, b)| u8::from(a != b)).collect();
-        let mut distance = vec![DISTANCE_CAP; n];
-        let (dx, dy) = (self.dims.x as usize, self.dims.y as usize);
+        self.start[..n].iter().zip(&self.start[1..]).map(|(a, b)| u8::from(a != b)).collect()
+    }
+
+    /// Per cell: no surface in it or its 26 neighbours. The occupancy is dilated by one cell
+    /// along x, then y, then z (separable, so three passes instead of 27 lookups per cell),
+    /// each a plain loop over rows so that it runs at memory speed on millions of cells.
+    fn empty_neighbourhoods(&self) -> Vec<bool> {
+        dilate3(&self.occupancy(), self.dims).iter().map(|&o| o == 0).collect()
+    }
+
+    /// Per block: the Chebyshev distance in blocks to the nearest occupied block, capped at
+    /// [`DISTANCE_CAP`], by growing the occupied blocks one block at a time.
+    fn distances(&self) -> Vec<u8> {
+        let b = self.blocks;
+        let mut reached = vec![0u8; (b.x * b.y * b.z) as usize];
+        let block_index = |c: IVec3| (c.x + b.x * (c.y + b.y * c.z)) as usize;
+        for (i, &o) in self.occupancy().iter().enumerate() {
+            if o != 0 {
+                let (x, rest) = (i as i32 % self.dims.x, i as i32 / self.dims.x);
+                let (y, z) = (rest % self.dims.y, rest / self.dims.y);
+                reached[block_index(IVec3::new(x, y, z) / 2)] = 1;
+            }
+        }
+        let mut distance = vec![DISTANCE_CAP; reached.len()];
         for d in 0..DISTANCE_CAP {
             if d > 0 {
-                let along_x = dilate(&reached, 1, dx);
-                let along_y = dilate(&along_x, dx, dy);
-                reached = dilate(&along_y, dx * dy, self.dims.z as usize);
+                reached = dilate3(&reached, b);
             }
             for (out, &r) in distance.iter_mut().zip(&reached) {
                 // Reached at this growth for the first time: at distance `d`.
@@ -144,16 +163,16 @@ impl Grid {
             if !(self.origin.cmple(p).all() && p.cmplt(self.end).all()) {
                 return t;
             }
-            let c = self.cell_of(p);
-            let d = self.distance[self.index(c)];
+            let c = self.cell_of(p) / 2;
+            let d = self.distance[(c.x + self.blocks.x * (c.y + self.blocks.y * c.z)) as usize];
             if d == 0 {
                 return t;
             }
-            // The cells within `d − 1` of `c` hold nothing; the grid's edge bounds the box, as
+            // The blocks within `d − 1` of `c` hold nothing; the grid's edge bounds the box, as
             // what lies beyond it is not known to be empty.
-            let r = i32::from(d) - 1;
-            let lo = (self.origin + (c - r).as_dvec3() * self.cell).max(self.origin);
-            let hi = (self.origin + (c + r + 1).as_dvec3() * self.cell).min(self.end);
+            let (r, block) = (i32::from(d) - 1, 2.0 * self.cell);
+            let lo = (self.origin + (c - r).as_dvec3() * block).max(self.origin);
+            let hi = (self.origin + (c + r + 1).as_dvec3() * block).min(self.end);
             let jump = arc.exit_time(&super::Aabb { min: lo, max: hi });
             // No progress (on a box's face, heading out): stop rather than spin.
             if jump <= 1e-12 {
@@ -298,6 +317,15 @@ impl Grid {
     }
 }
 
+/// `cells`, laid out over `dims`, dilated by one cell along every axis: each cell set if it or
+/// any of its 26 neighbours is.
+fn dilate3(cells: &[u8], dims: IVec3) -> Vec<u8> {
+    let (dx, dy) = (dims.x as usize, dims.y as usize);
+    let along_x = dilate(cells, 1, dx);
+    let along_y = dilate(&along_x, dx, dy);
+    dilate(&along_y, dx * dy, dims.z as usize)
+}
+
 /// `cells` dilated by one step of `stride` along an axis of `len` cells: a cell is set if it or
 /// its neighbour before or after along that axis is (no wrap-around at the axis ends). The
 /// cells come in blocks of `len` lines of `stride` cells; within a block, shifting by one line
@@ -364,19 +392,22 @@ mod tests {
             Some(Aabb { min: DVec3::new(0.7, 0.1, 0.5), max: DVec3::new(0.71, 0.9, 0.52) }),
         ];
         let grid = Grid::new(&boxes, Aabb { min: DVec3::ZERO, max: DVec3::ONE });
-        let d = grid.dims;
-        let occupied: Vec<IVec3> = (0..d.z)
-            .flat_map(|z| (0..d.y).flat_map(move |y| (0..d.x).map(move |x| IVec3::new(x, y, z))))
+        let b = grid.blocks;
+        let occupied: Vec<IVec3> = (0..grid.dims.z)
+            .flat_map(|z| {
+                (0..grid.dims.y).flat_map(move |y| (0..grid.dims.x).map(move |x| IVec3::new(x, y, z)))
+            })
             .filter(|&c| !grid.cell_items(c).is_empty())
+            .map(|c| c / 2)
             .collect();
-        for z in (0..d.z).step_by(3) {
-            for y in (0..d.y).step_by(2) {
-                for x in 0..d.x {
+        for z in (0..b.z).step_by(2) {
+            for y in 0..b.y {
+                for x in 0..b.x {
                     let c = IVec3::new(x, y, z);
                     let nearest =
                         occupied.iter().map(|&o| (o - c).abs().max_element()).min().unwrap_or(i32::MAX);
                     let expected = nearest.min(i32::from(DISTANCE_CAP)) as u8;
-                    assert_eq!(grid.distance[grid.index(c)], expected, "cell {c}");
+                    assert_eq!(grid.distance[(x + b.x * (y + b.y * z)) as usize], expected, "block {c}");
                 }
             }
         }
