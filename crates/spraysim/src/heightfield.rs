@@ -239,13 +239,14 @@ impl HeightField {
         let roof = top * (1.0 + 1e-9);
         let s_start = if h0 > roof { (h0 - roof) / (h0 - h1) } else { 0.0 };
         let s_end = if h1 < 0.0 { h0 / (h0 - h1) } else { 1.0 };
+        // The column over the point at fraction `s`, if it lies over the face.
+        let column = |s: f64| -> Option<u32> {
+            let (u, v) = face.local(p0.lerp(p1, s));
+            (u.abs() <= face.half_width && v.abs() <= face.half_height).then(|| self.cell_at(u, v))
+        };
         let inside = |s: f64| -> Option<u32> {
+            let cell = column(s)?;
             let q = p0.lerp(p1, s);
-            let (u, v) = face.local(q);
-            if u.abs() > face.half_width || v.abs() > face.half_height {
-                return None;
-            }
-            let cell = self.cell_at(u, v);
             ((q - face.center).dot(face.normal) <= self.thickness[cell as usize]).then_some(cell)
         };
         // March at half a cell along the face.
@@ -293,12 +294,7 @@ impl HeightField {
                 // particle came down (as in ballistic deposition); stacking it on the taller one
                 // would let every column that gets ahead catch its neighbours' flux and grow
                 // into a needle.
-                let (u, v) = face.local(p0.lerp(p1, a));
-                let cell = if u.abs() <= face.half_width && v.abs() <= face.half_height {
-                    self.cell_at(u, v)
-                } else {
-                    entered
-                };
+                let cell = column(a).unwrap_or(entered);
                 return Some(LayerContact { s: b, point: p0.lerp(p1, b), normal, cell });
             }
             was_inside = now;

@@ -103,7 +103,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_particle_fits_the_64_byte_budget() {
+    fn a_particle_slot_takes_67_bytes_and_compaction_keeps_order() {
         assert_eq!(Swarm::BYTES_PER_PARTICLE, 67);
         let mut s = Swarm::default();
         s.push(DVec3::ONE, DVec3::X, 1e-6, 7);

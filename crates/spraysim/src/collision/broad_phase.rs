@@ -84,8 +84,9 @@ impl Grid {
         });
         grid.start = count;
         grid.items = items;
-        grid.clear = grid.empty_neighbourhoods();
-        grid.distance = grid.distances();
+        let occupied = grid.occupancy();
+        grid.clear = dilate3(&occupied, grid.dims).iter().map(|&o| o == 0).collect();
+        grid.distance = grid.distances(&occupied);
         grid
     }
 
@@ -112,24 +113,22 @@ impl Grid {
         self.start[..n].iter().zip(&self.start[1..]).map(|(a, b)| u8::from(a != b)).collect()
     }
 
-    /// Per cell: no surface in it or its 26 neighbours. The occupancy is dilated by one cell
-    /// along x, then y, then z (separable, so three passes instead of 27 lookups per cell),
-    /// each a plain loop over rows so that it runs at memory speed on millions of cells.
-    fn empty_neighbourhoods(&self) -> Vec<bool> {
-        dilate3(&self.occupancy(), self.dims).iter().map(|&o| o == 0).collect()
+    /// Index of block `c` in the distance map.
+    #[inline]
+    fn block_index(&self, c: IVec3) -> usize {
+        (c.x + self.blocks.x * (c.y + self.blocks.y * c.z)) as usize
     }
 
-    /// Per block: the Chebyshev distance in blocks to the nearest occupied block, capped at
-    /// [`DISTANCE_CAP`], by growing the occupied blocks one block at a time.
-    fn distances(&self) -> Vec<u8> {
+    /// Per block: the Chebyshev distance in blocks to the nearest block holding an `occupied`
+    /// cell, capped at [`DISTANCE_CAP`], by growing the occupied blocks one block at a time.
+    fn distances(&self, occupied: &[u8]) -> Vec<u8> {
         let b = self.blocks;
         let mut reached = vec![0u8; (b.x * b.y * b.z) as usize];
-        let block_index = |c: IVec3| (c.x + b.x * (c.y + b.y * c.z)) as usize;
-        for (i, &o) in self.occupancy().iter().enumerate() {
+        for (i, &o) in occupied.iter().enumerate() {
             if o != 0 {
                 let (x, rest) = (i as i32 % self.dims.x, i as i32 / self.dims.x);
                 let (y, z) = (rest % self.dims.y, rest / self.dims.y);
-                reached[block_index(IVec3::new(x, y, z) / 2)] = 1;
+                reached[self.block_index(IVec3::new(x, y, z) / 2)] = 1;
             }
         }
         let mut distance = vec![DISTANCE_CAP; reached.len()];
@@ -164,7 +163,7 @@ impl Grid {
                 return t;
             }
             let c = self.cell_of(p) / 2;
-            let d = self.distance[(c.x + self.blocks.x * (c.y + self.blocks.y * c.z)) as usize];
+            let d = self.distance[self.block_index(c)];
             if d == 0 {
                 return t;
             }
@@ -318,7 +317,9 @@ impl Grid {
 }
 
 /// `cells`, laid out over `dims`, dilated by one cell along every axis: each cell set if it or
-/// any of its 26 neighbours is.
+/// any of its 26 neighbours is. Separable: one pass along x, then y, then z instead of 27
+/// lookups per cell, each a plain loop over rows so that it runs at memory speed on millions
+/// of cells.
 fn dilate3(cells: &[u8], dims: IVec3) -> Vec<u8> {
     let (dx, dy) = (dims.x as usize, dims.y as usize);
     let along_x = dilate(cells, 1, dx);
@@ -407,7 +408,7 @@ mod tests {
                     let nearest =
                         occupied.iter().map(|&o| (o - c).abs().max_element()).min().unwrap_or(i32::MAX);
                     let expected = nearest.min(i32::from(DISTANCE_CAP)) as u8;
-                    assert_eq!(grid.distance[(x + b.x * (y + b.y * z)) as usize], expected, "block {c}");
+                    assert_eq!(grid.distance[grid.block_index(c)], expected, "block {c}");
                 }
             }
         }

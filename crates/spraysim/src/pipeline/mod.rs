@@ -320,7 +320,8 @@ impl Simulation {
                 grown = true;
             }
         }
-        if grown {
+        // Only the exact integrator lets particles sleep.
+        if grown && self.lazy() {
             self.wake_all();
         }
     }
