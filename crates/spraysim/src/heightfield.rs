@@ -223,12 +223,29 @@ impl HeightField {
     /// Where the segment `p0 → p1` first enters the layer on the front of `face`. The layer is
     /// the face raised by each cell's thickness; a segment that starts inside it enters only
     /// after leaving it. `None` if it does not enter before reaching the bare face.
+    #[inline]
     pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
         let h0 = (p0 - face.center).dot(face.normal);
         let h1 = (p1 - face.center).dot(face.normal);
+        // Most paths pass well above the thickest cell or behind the face: that answer is
+        // inlined, the search is not.
         if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) > self.max_thickness {
             return None;
         }
+        self.layer_contact_near(face, p0, p1, h0, h1)
+    }
+
+    /// [`HeightField::layer_contact`] for a path that reaches below the thickest cell, with
+    /// `h0` and `h1` its heights above the face at its ends, m.
+    #[inline(never)]
+    fn layer_contact_near(
+        &self,
+        face: &Face,
+        p0: DVec3,
+        p1: DVec3,
+        h0: f64,
+        h1: f64,
+    ) -> Option<LayerContact> {
         // The thickest layer under the segment, from the blocks its footprint covers.
         let top = self.block_max_under(face, p0, p1);
         if h0.min(h1) > top {

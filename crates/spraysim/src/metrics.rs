@@ -315,10 +315,10 @@ impl Metrics {
         let (targets, obstacles, scenario) = (sim.targets(), sim.obstacles(), sim.scenario());
         let swarm = sim.swarm();
         let (mut in_flight, mut released_in_flight) = (Amount::default(), Amount::default());
-        for (f, v) in swarm.flags.iter().zip(&swarm.volume) {
+        for (i, f) in swarm.flags.iter().enumerate() {
             if f & flags::ALIVE != 0 {
                 let a = if f & flags::RELEASED != 0 { &mut released_in_flight } else { &mut in_flight };
-                a.add(f64::from(*v));
+                a.add(f64::from(swarm.volume(i)));
             }
         }
         let fates = Fates {

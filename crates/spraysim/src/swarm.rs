@@ -13,10 +13,34 @@ pub mod flags {
     pub const RELEASED: u8 = 4;
 }
 
+/// Material volume of each particle, without an array over all of them: every particle from
+/// the nozzle carries the emitter's volume, and released material (rare) carries its own, kept
+/// in a table by id.
+#[derive(Clone, Debug, Default)]
+pub struct Volumes {
+    /// Volume of every particle from the nozzle, m³.
+    pub nozzle: f32,
+    /// `(id, volume in m³)` of each released particle, by increasing id.
+    released: Vec<(u32, f32)>,
+}
+
+impl Volumes {
+    /// Volume carried by the particle with emission index `id` and status bits `bits`, m³.
+    #[inline]
+    pub fn of(&self, id: u32, bits: u8) -> f32 {
+        if bits & flags::RELEASED == 0 {
+            return self.nozzle;
+        }
+        // Every released particle in flight is in the table.
+        self.released.binary_search_by_key(&id, |&(i, _)| i).map_or(0.0, |k| self.released[k].1)
+    }
+}
+
 /// All particles of a run: in flight, or retired and waiting for compaction.
 ///
-/// Per particle: position and velocity (2 × 24 bytes), age and volume (2 × 4), id (4), wake
-/// step (4), impact count (2) and flags (1): 67 bytes.
+/// Per particle: position and velocity (2 × 24 bytes), age (4), id (4), wake step (4), impact
+/// count (2) and flags (1): 63 bytes. Volumes are not stored per particle (see [`Volumes`]).
+/// Slots stay in increasing id order.
 #[derive(Clone, Debug, Default)]
 pub struct Swarm {
     /// Position, m.
@@ -25,8 +49,6 @@ pub struct Swarm {
     pub vel: Vec<DVec3>,
     /// Time since emission, s.
     pub age: Vec<f32>,
-    /// Material volume carried, m³.
-    pub volume: Vec<f32>,
     /// Emission index within the run; selects the particle's random stream.
     pub id: Vec<u32>,
     /// Impacts so far; numbers the particle's random events.
@@ -37,15 +59,22 @@ pub struct Swarm {
     /// flight certainly meets nothing for a while is moved there in closed form and skips the
     /// steps in between; its position and velocity are then those at the start of that step.
     pub wake: Vec<u32>,
+    /// Material volume carried by each particle.
+    pub volumes: Volumes,
 }
 
 impl Swarm {
     /// Bytes of storage per particle slot, summed over the arrays.
     pub const BYTES_PER_PARTICLE: usize = 2 * std::mem::size_of::<DVec3>()
-        + 2 * std::mem::size_of::<f32>()
+        + std::mem::size_of::<f32>()
         + 2 * std::mem::size_of::<u32>()
         + std::mem::size_of::<u16>()
         + std::mem::size_of::<u8>();
+
+    /// An empty swarm whose nozzle particles each carry `nozzle_volume` (m³).
+    pub fn new(nozzle_volume: f32) -> Swarm {
+        Swarm { volumes: Volumes { nozzle: nozzle_volume, released: Vec::new() }, ..Swarm::default() }
+    }
 
     /// Number of slots (in flight or retired since the last compaction).
     pub fn len(&self) -> usize {
@@ -62,17 +91,29 @@ impl Swarm {
         self.flags.iter().filter(|&&f| f & flags::ALIVE != 0).count()
     }
 
-    /// Adds a particle in flight.
-    pub fn push(&mut self, pos: DVec3, vel: DVec3, volume: f32, id: u32) {
-        self.push_with_flags(pos, vel, volume, id, flags::ALIVE);
+    /// Material volume carried by the particle in slot `i`, m³.
+    pub fn volume(&self, i: usize) -> f32 {
+        self.volumes.of(self.id[i], self.flags[i])
     }
 
-    /// Adds a particle with the given status bits.
-    pub fn push_with_flags(&mut self, pos: DVec3, vel: DVec3, volume: f32, id: u32, bits: u8) {
+    /// Adds a particle from the nozzle, in flight; `id` must exceed every id so far.
+    pub fn push(&mut self, pos: DVec3, vel: DVec3, id: u32) {
+        self.push_slot(pos, vel, id, flags::ALIVE);
+    }
+
+    /// Adds released material of `volume` (m³) with the given status bits (which must include
+    /// [`flags::RELEASED`]); `id` must exceed every id so far.
+    pub fn push_released(&mut self, pos: DVec3, vel: DVec3, volume: f32, id: u32, bits: u8) {
+        debug_assert!(bits & flags::RELEASED != 0);
+        self.volumes.released.push((id, volume));
+        self.push_slot(pos, vel, id, bits);
+    }
+
+    fn push_slot(&mut self, pos: DVec3, vel: DVec3, id: u32, bits: u8) {
+        debug_assert!(self.id.last().is_none_or(|&last| last < id), "ids must increase");
         self.pos.push(pos);
         self.vel.push(vel);
         self.age.push(0.0);
-        self.volume.push(volume);
         self.id.push(id);
         self.impacts.push(0);
         self.flags.push(bits);
@@ -90,11 +131,14 @@ impl Swarm {
         retain(&mut self.pos, &keep);
         retain(&mut self.vel, &keep);
         retain(&mut self.age, &keep);
-        retain(&mut self.volume, &keep);
         retain(&mut self.id, &keep);
         retain(&mut self.impacts, &keep);
         retain(&mut self.flags, &keep);
         retain(&mut self.wake, &keep);
+        // The released particles still in flight, in slot (so id) order.
+        let v = &self.volumes;
+        let kept = self.id.iter().zip(&self.flags).filter(|&(_, f)| f & flags::RELEASED != 0);
+        self.volumes.released = kept.map(|(&id, &f)| (id, v.of(id, f))).collect();
     }
 }
 
@@ -103,13 +147,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_particle_slot_takes_67_bytes_and_compaction_keeps_order() {
-        assert_eq!(Swarm::BYTES_PER_PARTICLE, 67);
-        let mut s = Swarm::default();
-        s.push(DVec3::ONE, DVec3::X, 1e-6, 7);
-        s.push(DVec3::ZERO, DVec3::Y, 2e-6, 8);
+    fn a_particle_slot_takes_63_bytes_and_compaction_keeps_order_and_volumes() {
+        assert_eq!(Swarm::BYTES_PER_PARTICLE, 63);
+        let mut s = Swarm::new(1e-6);
+        let released = flags::ALIVE | flags::RELEASED;
+        s.push(DVec3::ONE, DVec3::X, 7);
+        s.push_released(DVec3::ZERO, DVec3::ZERO, 3e-6, 8, released);
+        s.push(DVec3::ZERO, DVec3::Y, 9);
+        s.push_released(DVec3::ZERO, DVec3::ZERO, 5e-6, 10, released);
+        s.push_released(DVec3::ZERO, DVec3::ZERO, 6e-6, 11, released);
         s.flags[0] &= !flags::ALIVE;
+        s.flags[3] &= !flags::ALIVE;
         s.compact();
-        assert_eq!((s.len(), s.id[0], s.alive()), (1, 8, 1));
+        assert_eq!(s.id, [8, 9, 11]);
+        assert_eq!(s.alive(), 3);
+        assert_eq!([s.volume(0), s.volume(1), s.volume(2)], [3e-6, 1e-6, 6e-6]);
+        // The retired released particle's entry is gone with it.
+        assert_eq!(s.volumes.released.len(), 2);
     }
 }

@@ -260,7 +260,7 @@ impl Simulation {
         };
         for (k, (pos, vel)) in born.into_iter().enumerate() {
             // Validation bounds the run's particle count by 2³², so the id fits.
-            self.swarm.push(pos, vel, volume, (first + k as u64) as u32);
+            self.swarm.push(pos, vel, (first + k as u64) as u32);
             self.tally.emitted.add(f64::from(volume));
         }
         self.next_id += n;
@@ -424,16 +424,15 @@ impl Simulation {
             .chunks_mut(CHUNK)
             .zip(s.vel.chunks_mut(CHUNK))
             .zip(s.age.chunks_mut(CHUNK))
-            .zip(s.volume.chunks(CHUNK))
             .zip(s.id.chunks(CHUNK))
             .zip(s.impacts.chunks_mut(CHUNK))
             .zip(s.flags.chunks_mut(CHUNK))
             .zip(s.wake.chunks_mut(CHUNK))
-            .map(|(((((((pos, vel), age), volume), id), impacts), flags), wake)| SwarmChunk {
+            .map(|((((((pos, vel), age), id), impacts), flags), wake)| SwarmChunk {
                 pos,
                 vel,
                 age,
-                volume,
+                volumes: &s.volumes,
                 id,
                 impacts,
                 flags,
@@ -525,7 +524,7 @@ fn release(
     let (u, v) = t.field.cell_center(cell);
     let pos = t.face.center + t.face.right * u + t.face.up * v + t.face.normal * RELEASE_OFFSET;
     let bits = flags::ALIVE | flags::RELEASED | flags::HIT_SUBSTRATE;
-    swarm.push_with_flags(pos, DVec3::ZERO, removed as f32, *next_id as u32, bits);
+    swarm.push_released(pos, DVec3::ZERO, removed as f32, *next_id as u32, bits);
     *next_id += 1;
     tally.released.add(f64::from(removed as f32));
     t.detached.add(removed);

@@ -143,7 +143,7 @@ pub(super) fn build(scenario: &Scenario) -> Result<Simulation, SetupError> {
         scenario: sc.clone(),
         step: 0,
         total_steps,
-        swarm: Swarm::default(),
+        swarm: Swarm::new(emitter.particle_volume as f32),
         retired: 0,
         emitter,
         nozzle,

@@ -10,7 +10,7 @@ use crate::impact::{ImpactModel, Outcome};
 use crate::integrator::{Integrator, Motion};
 use crate::rng::StreamKey;
 use crate::scenario::{ErosionParams, Role};
-use crate::swarm::flags;
+use crate::swarm::{Volumes, flags};
 use crate::target::{Amount, Target};
 use glam::DVec3;
 
@@ -112,7 +112,7 @@ pub(crate) struct SwarmChunk<'a> {
     pub pos: &'a mut [DVec3],
     pub vel: &'a mut [DVec3],
     pub age: &'a mut [f32],
-    pub volume: &'a [f32],
+    pub volumes: &'a Volumes,
     pub id: &'a [u32],
     pub impacts: &'a mut [u16],
     pub flags: &'a mut [u8],
@@ -179,7 +179,7 @@ impl UpdateContext<'_> {
         let mut p = Particle {
             pos: chunk.pos[i],
             vel: chunk.vel[i],
-            volume: chunk.volume[i],
+            volume: chunk.volumes.of(chunk.id[i], chunk.flags[i]),
             id: chunk.id[i],
             impacts: chunk.impacts[i],
             flags: chunk.flags[i],
