@@ -112,17 +112,63 @@ fn eval(c: &[f64], t: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, &ci| acc * t + ci)
 }
 
-fn derivative(c: &[f64]) -> Vec<f64> {
-    c.iter().enumerate().skip(1).map(|(i, &ci)| i as f64 * ci).collect()
+/// A few numbers on the stack (polynomial coefficients, roots): the root finder runs once per
+/// candidate surface per step, where heap vectors would cost more than the arithmetic.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Small {
+    items: [f64; 8],
+    len: usize,
 }
 
-/// Real roots of the polynomial `c` (low to high) in `[lo, hi]`, ascending. Roots of the
-/// derivative split the interval into monotone pieces, each bisected to full precision, so no
-/// root is missed whatever the step; a root where the polynomial only touches zero counts.
-pub fn roots(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+impl Small {
+    fn push(&mut self, x: f64) {
+        // Degree ≤ 4 keeps every list within 6 (roots and the knots between them).
+        debug_assert!(self.len < self.items.len());
+        if self.len < self.items.len() {
+            self.items[self.len] = x;
+            self.len += 1;
+        }
+    }
+
+    /// The last number, if any.
+    fn last(&self) -> Option<f64> {
+        self.len.checked_sub(1).map(|i| self.items[i])
+    }
+
+    /// Drops consecutive repeats.
+    fn dedup(&mut self) {
+        let mut n = 0;
+        for i in 0..self.len {
+            if n == 0 || self.items[i] != self.items[n - 1] {
+                self.items[n] = self.items[i];
+                n += 1;
+            }
+        }
+        self.len = n;
+    }
+}
+
+impl std::ops::Deref for Small {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.items[..self.len]
+    }
+}
+
+fn derivative(c: &[f64]) -> Small {
+    let mut d = Small::default();
+    c.iter().enumerate().skip(1).for_each(|(i, &ci)| d.push(i as f64 * ci));
+    d
+}
+
+/// Real roots of the polynomial `c` (low to high, degree ≤ 4) in `[lo, hi]`, ascending. Roots
+/// of the derivative split the interval into monotone pieces, each bisected to full
+/// precision, so no root is missed whatever the step; a root where the polynomial only
+/// touches zero counts.
+pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
     let deg = c.iter().rposition(|&x| x != 0.0).unwrap_or(0);
     let c = &c[..=deg];
-    let mut out = Vec::new();
+    let mut out = Small::default();
     if deg == 0 {
         return out;
     }
@@ -133,8 +179,9 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
         }
         return out;
     }
-    let mut knots = vec![lo];
-    knots.extend(roots(&derivative(c), lo, hi).into_iter().filter(|&r| r > lo && r < hi));
+    let mut knots = Small::default();
+    knots.push(lo);
+    roots(&derivative(c), lo, hi).iter().filter(|&&r| r > lo && r < hi).for_each(|&r| knots.push(r));
     knots.push(hi);
     for w in knots.windows(2) {
         let (mut a, mut b) = (w[0], w[1]);
@@ -163,7 +210,7 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
         }
         out.push(b);
     }
-    if eval(c, hi) == 0.0 && out.last() != Some(&hi) {
+    if eval(c, hi) == 0.0 && out.last() != Some(hi) {
         out.push(hi);
     }
     out.dedup();
@@ -196,7 +243,7 @@ fn plane_hit(arc: &Arc, point: DVec3, normal: DVec3, within: impl Fn(DVec3) -> b
     if s[0] == 0.0 {
         return None; // starts on the plane: particles are always lifted off surfaces
     }
-    for tau in roots(&s, 0.0, arc.duration) {
+    for &tau in roots(&s, 0.0, arc.duration).iter() {
         if tau <= 0.0 {
             continue;
         }
@@ -230,7 +277,7 @@ fn inside_start(shape: &Shape, arc: &Arc) -> Option<Hit> {
 /// holds at the hit point.
 fn first_entry(arc: &Arc, f: &[f64], accept: impl Fn(f64) -> bool) -> Option<f64> {
     let df = derivative(f);
-    roots(f, 0.0, arc.duration).into_iter().find(|&tau| tau > 0.0 && eval(&df, tau) <= 0.0 && accept(tau))
+    roots(f, 0.0, arc.duration).iter().copied().find(|&tau| tau > 0.0 && eval(&df, tau) <= 0.0 && accept(tau))
 }
 
 fn sphere_hit(arc: &Arc, s: &Sphere, shape: &Shape) -> Option<Hit> {
@@ -263,7 +310,7 @@ fn cylinder_hit(arc: &Arc, c: &Cylinder, shape: &Shape) -> Option<Hit> {
     let ds = derivative(&s);
     for (level, normal, entering_up) in [(0.0, -u, true), (len, u, false)] {
         let shifted = [s[0] - level, s[1], s[2]];
-        for tau in roots(&shifted, 0.0, arc.duration) {
+        for &tau in roots(&shifted, 0.0, arc.duration).iter() {
             let slope = eval(&ds, tau);
             let entering = if entering_up { slope > 0.0 } else { slope < 0.0 };
             if tau > 0.0 && entering && radial2(tau) <= r2 {
@@ -281,14 +328,14 @@ fn box_hit(arc: &Arc, b: &OrientedBox, shape: &Shape) -> Option<Hit> {
     if let Some(h) = inside_start(shape, arc) {
         return Some(h);
     }
-    let local: Vec<[f64; 3]> = (0..3).map(|i| arc.along(b.center, b.axes[i])).collect();
+    let local: [[f64; 3]; 3] = std::array::from_fn(|i| arc.along(b.center, b.axes[i]));
     let mut best: Option<Hit> = None;
     for i in 0..3 {
         let h = b.half_extents[i];
         let d = derivative(&local[i]);
         for sign in [-1.0, 1.0] {
             let shifted = [local[i][0] - sign * h, local[i][1], local[i][2]];
-            for tau in roots(&shifted, 0.0, arc.duration) {
+            for &tau in roots(&shifted, 0.0, arc.duration).iter() {
                 // Entering through the face at sign·h: moving against its outward normal.
                 let slope = eval(&d, tau) * sign;
                 let on_face =

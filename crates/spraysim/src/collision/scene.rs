@@ -145,7 +145,22 @@ impl Scene {
             }
         };
         self.unbounded.iter().for_each(|&i| test(i));
-        self.grid.for_each_in_box(&bounds, |items| items.iter().for_each(|&i| test(i)));
+        // A surface spanning several of the cells is solved once (the answer does not depend on
+        // the order of the tests, only on which surfaces are tested).
+        let mut seen = [u32::MAX; 16];
+        let mut n = 0;
+        self.grid.for_each_in_box(&bounds, |items| {
+            for &i in items {
+                if seen[..n].contains(&i) {
+                    continue;
+                }
+                if n < seen.len() {
+                    seen[n] = i;
+                    n += 1;
+                }
+                test(i);
+            }
+        });
         best
     }
 
