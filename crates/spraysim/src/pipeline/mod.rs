@@ -439,7 +439,9 @@ impl Simulation {
                 wake,
             })
             .collect();
-        let work = || chunks.into_par_iter().map(|c| ctx.run_chunk(c)).collect();
+        // One task per chunk: their costs differ widely (old rebounds near surfaces against
+        // young particles in free flight), so idle threads must be able to take any of them.
+        let work = || chunks.into_par_iter().with_max_len(1).map(|c| ctx.run_chunk(c)).collect();
         match &self.pool {
             Some(pool) => pool.install(work),
             None => work(),
