@@ -4,6 +4,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use spraysim::{Metrics, Scenario, Simulation};
+use std::io::{ErrorKind, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -116,15 +117,44 @@ enum Command {
     },
 }
 
+/// `println!` to stdout that returns an error instead of panicking when stdout is closed.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    };
+}
+
+/// Writes `text` to stdout as it is.
+fn write_out(text: &str) -> Result<()> {
+    std::io::stdout().lock().write_all(text.as_bytes())?;
+    Ok(())
+}
+
 fn main() -> ExitCode {
     match dispatch(Cli::parse().command) {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader went away (`spraysim presets | head`): what it wanted, it has.
+        Err(e) if e.downcast_ref::<std::io::Error>().is_some_and(|e| e.kind() == ErrorKind::BrokenPipe) => {
+            ExitCode::SUCCESS
+        }
         Err(e) => {
-            // `{:#}` prints the whole chain of causes on one line, without a backtrace.
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", one_line(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// The whole chain of causes on one line, without a backtrace; a cause whose text its
+/// parent already quotes (as the library's errors do) is not repeated.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !line.contains(&text) {
+            line = format!("{line}: {text}");
+        }
+    }
+    line
 }
 
 fn dispatch(command: Command) -> Result<()> {
@@ -133,9 +163,9 @@ fn dispatch(command: Command) -> Result<()> {
         Command::Check { scenario, resolved } => {
             let sc = Scenario::from_path(&scenario)?;
             if resolved {
-                print!("{}", sc.to_toml());
+                write_out(&sc.to_toml())?;
             } else {
-                println!(
+                say!(
                     "{}: valid ({} targets, {} obstacles)",
                     scenario.display(),
                     sc.targets.len(),
@@ -196,7 +226,7 @@ fn dispatch(command: Command) -> Result<()> {
             calibrate(&scenario, &profile, &settings, &output, quiet)
         }
         Command::Presets => {
-            print!("{}", spraysim::scenario::presets_toml());
+            write_out(&spraysim::scenario::presets_toml())?;
             Ok(())
         }
     }
@@ -248,17 +278,17 @@ fn run(path: Option<&Path>, output: Option<PathBuf>, threads: usize, quiet: bool
     let files = spraysim::io::write_outputs(&sim, &dir)
         .with_context(|| format!("writing outputs to {}", dir.display()))?;
     if !quiet {
-        print_summary(&sim.metrics(), wall);
-        println!("wrote {} files to {}", files.len(), dir.display());
+        print_summary(&sim.metrics(), wall)?;
+        say!("wrote {} files to {}", files.len(), dir.display());
     }
     Ok(())
 }
 
-fn print_summary(m: &Metrics, wall: f64) {
+fn print_summary(m: &Metrics, wall: f64) -> Result<()> {
     let pct = |a: f64, b: f64| if b > 0.0 { 100.0 * a / b } else { 0.0 };
     let e = m.emitted;
-    println!("simulated {:.3} s in {:.2} s ({:.2}× real time)", m.time, wall, m.time / wall.max(1e-9));
-    println!("{:<22}{:>12}{:>16}{:>9}", "fate", "particles", "volume [m³]", "share");
+    say!("simulated {:.3} s in {:.2} s ({:.2}× real time)", m.time, wall, m.time / wall.max(1e-9));
+    say!("{:<22}{:>12}{:>16}{:>9}", "fate", "particles", "volume [m³]", "share");
     let f = &m.fates;
     for (name, a) in [
         ("emitted", e),
@@ -268,19 +298,16 @@ fn print_summary(m: &Metrics, wall: f64) {
         ("expired", f.expired),
         ("in flight", f.in_flight),
     ] {
-        println!("{name:<22}{:>12}{:>16.6e}{:>8.2}%", a.count, a.volume, pct(a.volume, e.volume));
+        say!("{name:<22}{:>12}{:>16.6e}{:>8.2}%", a.count, a.volume, pct(a.volume, e.volume));
     }
     let show = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2} %", 100.0 * v));
-    println!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
+    say!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
     let fell = m.failures.events.iter().fold(0.0, |acc, e| acc + e.volume);
-    println!("cohesive failures {}   fallen volume {fell:.3e} m³", m.failures.events.len());
-    println!(
-        "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}",
-        "target", "hits", "mean [mm]", "max [mm]", "CV", "covered"
-    );
+    say!("cohesive failures {}   fallen volume {fell:.3e} m³", m.failures.events.len());
+    say!("{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}", "target", "hits", "mean [mm]", "max [mm]", "CV", "covered");
     for t in &m.targets {
         let th = &t.thickness;
-        println!(
+        say!(
             "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%",
             t.name,
             t.hits,
@@ -290,6 +317,7 @@ fn print_summary(m: &Metrics, wall: f64) {
             100.0 * th.covered_fraction
         );
     }
+    Ok(())
 }
 
 /// Runs the closed-form checks and writes their report.
@@ -308,15 +336,9 @@ fn validate(output: &Path, size: f64, threads: usize) -> Result<()> {
         .and_then(|f| spraysim::io::write_all(output, &f))
         .with_context(|| format!("writing the report to {}", output.display()))?;
     for v in &report.verdicts {
-        println!(
-            "{:<6} {}: {} ({})",
-            if v.passed { "pass" } else { "FAIL" },
-            v.name,
-            v.statistic,
-            v.criterion
-        );
+        say!("{:<6} {}: {} ({})", if v.passed { "pass" } else { "FAIL" }, v.name, v.statistic, v.criterion);
     }
-    println!("wrote {} files to {} in {:.1} s", files.len(), output.display(), start.elapsed().as_secs_f64());
+    say!("wrote {} files to {} in {:.1} s", files.len(), output.display(), start.elapsed().as_secs_f64());
     let failed = report.verdicts.iter().filter(|v| !v.passed).count();
     if failed > 0 {
         anyhow::bail!("{failed} of {} checks failed", report.verdicts.len());
@@ -360,24 +382,24 @@ fn calibrate(
         .and_then(|f| spraysim::io::write_all(output, &f))
         .with_context(|| format!("writing outputs to {}", output.display()))?;
     if !quiet {
-        println!("{} evaluations, {} iterations ({})", cal.evaluations, cal.iterations, cal.termination);
-        println!("{:<12}{:>14}{:>14}  unit", "parameter", "start", "fitted");
+        say!("{} evaluations, {} iterations ({})", cal.evaluations, cal.iterations, cal.termination);
+        say!("{:<12}{:>14}{:>14}  unit", "parameter", "start", "fitted");
         for ((p, a), b) in cal.params.iter().zip(&cal.initial).zip(&cal.fitted) {
-            println!("{:<12}{a:>14.6}{b:>14.6}  {}", p.name(), p.unit());
+            say!("{:<12}{a:>14.6}{b:>14.6}  {}", p.name(), p.unit());
         }
-        println!("{:<22}{:>10}{:>10}", "error, % of peak", "start", "fitted");
+        say!("{:<22}{:>10}{:>10}", "error, % of peak", "start", "fitted");
         let (i, f) = (&cal.initial_errors, &cal.errors);
         for (name, a, b) in [
             ("max absolute", i.max_abs, f.max_abs),
             ("RMS", i.rms, f.rms),
             ("mean absolute", i.mean_abs, f.mean_abs),
         ] {
-            println!("{name:<22}{:>10.2}{:>10.2}", 100.0 * a, 100.0 * b);
+            say!("{name:<22}{:>10.2}{:>10.2}", 100.0 * a, 100.0 * b);
         }
         if settings.shape_only {
-            println!("simulated profile scaled by {:.4} (shape only)", cal.scale);
+            say!("simulated profile scaled by {:.4} (shape only)", cal.scale);
         }
-        println!("wrote {} files to {}", files.len(), output.display());
+        say!("wrote {} files to {}", files.len(), output.display());
     }
     Ok(())
 }
@@ -407,16 +429,14 @@ fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
             all,
         ),
     ];
-    println!(
+    say!(
         "reference scene, Δt = 1 ms, forward Euler, {spawn_rate:.0} particles/s for {duration} s unless noted\n"
     );
-    println!(
-        "| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |"
-    );
-    println!("|---|---:|---:|---:|---:|---:|");
+    say!("| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |");
+    say!("|---|---:|---:|---:|---:|---:|");
     for (name, scene, threads) in runs {
         let m = measure(&scene.scenario(), threads)?;
-        println!(
+        say!(
             "| {name} | {:.3} | {:.3e} | {:.3e} | {:.3} | {:.0} |",
             m.wall,
             m.particle_steps_per_second(),
@@ -426,13 +446,13 @@ fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
         );
     }
     let m = measure(&spraysim::bench::raster_pass(1e5), all)?;
-    println!(
+    say!(
         "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s: {:.2} s wall time ({:.1}× real time)",
         m.wall,
         m.real_time_factor()
     );
     let ms = 1e3 * spraysim::bench::time_cohesion(1024, 20);
-    println!("cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms");
-    println!("particle storage: {} bytes per particle slot", spraysim::swarm::Swarm::BYTES_PER_PARTICLE);
+    say!("cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms");
+    say!("particle storage: {} bytes per particle slot", spraysim::swarm::Swarm::BYTES_PER_PARTICLE);
     Ok(())
 }

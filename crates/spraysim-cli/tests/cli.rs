@@ -186,3 +186,27 @@ fn calibrate_refuses_bad_input_and_writes_nothing() {
         assert!(!tmp.path().join("never").exists(), "{args:?} left an output directory");
     }
 }
+
+#[test]
+fn a_reader_that_goes_away_early_is_not_an_error() {
+    // `spraysim presets | head -1`: the pipe closes before everything is written.
+    let (reader, writer) = std::io::pipe().expect("pipe");
+    drop(reader);
+    let o = Command::new(env!("CARGO_BIN_EXE_spraysim"))
+        .arg("presets")
+        .stdout(writer)
+        .output()
+        .expect("spraysim starts");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "", "no panic, no error message");
+}
+
+#[test]
+fn an_error_quotes_its_cause_once() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let o = spraysim(&["check", "missing.toml"], tmp.path());
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(err.starts_with("error: missing.toml: cannot read the scenario"), "{err}");
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+}
