@@ -114,6 +114,9 @@ enum Command {
         /// Worker threads for the runs that do not vary it; 0 uses every core.
         #[arg(short = 'j', long, default_value_t = 0)]
         threads: usize,
+        /// Timed runs per table row (after one untimed warm-up); the median is reported.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+        repeats: u32,
     },
 }
 
@@ -174,7 +177,9 @@ fn dispatch(command: Command) -> Result<()> {
             }
             Ok(())
         }
-        Command::Bench { spawn_rate, duration, threads } => bench(spawn_rate, duration, threads),
+        Command::Bench { spawn_rate, duration, threads, repeats } => {
+            bench(spawn_rate, duration, threads, repeats as usize)
+        }
         Command::Validate { output, size, threads } => validate(&output, size, threads),
         Command::Calibrate {
             scenario,
@@ -405,13 +410,20 @@ fn calibrate(
 }
 
 /// Runs the reference scene and its scaling variants and prints one table row each.
-fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
-    use spraysim::bench::{ReferenceScene, measure};
+fn bench(spawn_rate: f64, duration: f64, threads: usize, repeats: usize) -> Result<()> {
+    use spraysim::bench::{ReferenceScene, measure, measure_median};
     use spraysim::integrator::Integrator;
+    // Refused before anything runs or prints.
+    if !(spawn_rate.is_finite() && spawn_rate > 0.0) {
+        anyhow::bail!("--spawn-rate must be a positive number of particles/s, got {spawn_rate}");
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        anyhow::bail!("--duration must be a positive number of seconds, got {duration}");
+    }
     let base = ReferenceScene { spawn_rate, duration, ..ReferenceScene::default() };
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let all = if threads == 0 { cores } else { threads };
-    let runs: Vec<(String, ReferenceScene, usize)> = vec![
+    let scenes: Vec<(String, ReferenceScene, usize)> = vec![
         (format!("reference, {all} threads"), base.clone(), all),
         ("reference, 1 thread".into(), base.clone(), 1),
         (
@@ -429,13 +441,18 @@ fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
             all,
         ),
     ];
+    let runs = scenes
+        .into_iter()
+        .map(|(name, scene, threads)| Ok((name, scene.scenario()?, threads)))
+        .collect::<Result<Vec<_>>>()?;
+    let raster = spraysim::bench::raster_pass(1e5)?;
     say!(
-        "reference scene, Δt = 1 ms, forward Euler, {spawn_rate:.0} particles/s for {duration} s unless noted\n"
+        "reference scene, Δt = 1 ms, forward Euler, {spawn_rate:.0} particles/s for {duration} s unless noted; each row the median of {repeats} timed runs after a warm-up\n"
     );
     say!("| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |");
     say!("|---|---:|---:|---:|---:|---:|");
-    for (name, scene, threads) in runs {
-        let m = measure(&scene.scenario(), threads)?;
+    for (name, scenario, threads) in runs {
+        let m = measure_median(&scenario, threads, repeats)?;
         say!(
             "| {name} | {:.3} | {:.3e} | {:.3e} | {:.3} | {:.0} |",
             m.wall,
@@ -445,7 +462,7 @@ fn bench(spawn_rate: f64, duration: f64, threads: usize) -> Result<()> {
             m.peak_rss as f64 / (1024.0 * 1024.0)
         );
     }
-    let m = measure(&spraysim::bench::raster_pass(1e5), all)?;
+    let m = measure(&raster, all)?;
     say!(
         "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s: {:.2} s wall time ({:.1}× real time)",
         m.wall,

@@ -210,3 +210,15 @@ fn an_error_quotes_its_cause_once() {
     assert!(err.starts_with("error: missing.toml: cannot read the scenario"), "{err}");
     assert_eq!(err.matches("os error").count(), 1, "{err}");
 }
+
+#[test]
+fn bench_refuses_a_bad_reference_scene_without_a_panic() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (flag, value) in [("--duration", "-1"), ("--spawn-rate", "0"), ("--spawn-rate", "nan")] {
+        let o = spraysim(&["bench", &format!("{flag}={value}")], tmp.path());
+        let err = stderr(&o);
+        assert!(!o.status.success());
+        assert!(err.starts_with(&format!("error: {flag} must be a positive number")), "{err}");
+        assert!(o.stdout.is_empty(), "nothing printed before the refusal");
+    }
+}

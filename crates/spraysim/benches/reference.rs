@@ -28,7 +28,7 @@ fn reference(c: &mut Criterion) {
             },
         ),
     ] {
-        let sc = scene.scenario();
+        let sc = scene.scenario().expect("the reference scene is valid");
         // Particle-steps per run, to report throughput in particle-steps per second.
         group.throughput(Throughput::Elements(run(&sc)));
         group.bench_function(name, |b| b.iter(|| run(&sc)));

@@ -42,8 +42,9 @@ impl Default for ReferenceScene {
 }
 
 impl ReferenceScene {
-    /// The scene as a scenario.
-    pub fn scenario(&self) -> Scenario {
+    /// The scene as a scenario; an error names the knob that makes it invalid (a spawn rate
+    /// or duration that is not a positive number, say).
+    pub fn scenario(&self) -> Result<Scenario, crate::scenario::ScenarioError> {
         let mut t = format!(
             r#"
             [simulation]
@@ -97,18 +98,17 @@ impl ReferenceScene {
                 );
             }
         }
-        let mut sc = Scenario::from_toml(&t, "reference scene")
-            .unwrap_or_else(|e| panic!("the reference scene is valid: {e}"));
+        let mut sc = Scenario::from_toml(&t, "reference scene")?;
         sc.simulation.integrator = self.integrator;
         sc.simulation.dt = self.dt;
-        sc
+        Ok(sc)
     }
 }
 
 /// The reference scene with a 60 s robot raster over the wall at `spawn_rate` particles per
 /// second, cohesion analysed every 0.5 s: the optimisation-loop workload.
-pub fn raster_pass(spawn_rate: f64) -> Scenario {
-    let mut sc = ReferenceScene { spawn_rate, duration: 60.0, ..ReferenceScene::default() }.scenario();
+pub fn raster_pass(spawn_rate: f64) -> Result<Scenario, crate::scenario::ScenarioError> {
+    let mut sc = ReferenceScene { spawn_rate, duration: 60.0, ..ReferenceScene::default() }.scenario()?;
     sc.nozzle.raster = Some(crate::scenario::RasterParams {
         target: "wall".into(),
         size: Some([1.6, 1.5]),
@@ -119,7 +119,7 @@ pub fn raster_pass(spawn_rate: f64) -> Scenario {
         ..Default::default()
     });
     sc.process.cohesion.interval = 0.5;
-    sc
+    Ok(sc)
 }
 
 /// Mean time of one cohesion analysis of a `side × side` heightfield carrying a shotcrete
@@ -194,6 +194,22 @@ pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, crate
         retired: m.emitted.count - m.fates.in_flight.count,
         peak_rss: peak_rss(),
     })
+}
+
+/// Runs `scenario` `repeats` times (at least once) after one untimed warm-up run of a tenth
+/// of its duration, and returns the run of median wall-clock time: a single run on a shared
+/// machine is easily 20 % off either way.
+pub fn measure_median(
+    scenario: &Scenario,
+    threads: usize,
+    repeats: usize,
+) -> Result<Measurement, crate::SetupError> {
+    let mut warm = scenario.clone();
+    warm.simulation.duration = (0.1 * warm.simulation.duration).max(warm.simulation.dt);
+    measure(&warm, threads)?;
+    let mut runs = (0..repeats.max(1)).map(|_| measure(scenario, threads)).collect::<Result<Vec<_>, _>>()?;
+    runs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+    Ok(runs.swap_remove(runs.len() / 2))
 }
 
 /// Peak resident set size of this process, bytes, from `/proc/self/status` (0 if unavailable).

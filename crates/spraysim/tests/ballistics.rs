@@ -45,7 +45,8 @@ fn exact_flights_skip_open_space_without_changing_where_particles_land() {
         integrator: Integrator::Exact,
         ..Default::default()
     }
-    .scenario();
+    .scenario()
+    .expect("the reference scene is valid");
     let run = |lazy: bool, sc: &Scenario| {
         let mut sim = Simulation::new(sc).expect("valid");
         sim.set_lazy_flight(lazy);

@@ -126,7 +126,8 @@ fn a_static_jet_builds_a_mound_not_needles() {
         resolution: 512,
         ..Default::default()
     }
-    .scenario();
+    .scenario()
+    .expect("the reference scene is valid");
     sc.obstacles.clear();
     let mut sim = Simulation::new(&sc).expect("valid");
     sim.run(|_| {});

@@ -315,7 +315,8 @@ fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
             integrator,
             ..ReferenceScene::default()
         }
-        .scenario();
+        .scenario()
+        .expect("the reference scene is valid");
         let sim = run(&sc);
         let m = sim.metrics();
         assert_conserved(&m);
