@@ -218,10 +218,10 @@ impl Simulation {
         self.emit();
         let outcomes = self.update();
         self.apply(outcomes);
-        if self.cohesion_every > 0 && (self.step + 1) % self.cohesion_every == 0 {
+        if self.cohesion_every > 0 && (self.step + 1).is_multiple_of(self.cohesion_every) {
             self.cohesion();
         }
-        if self.drip_every > 0 && (self.step + 1) % self.drip_every == 0 {
+        if self.drip_every > 0 && (self.step + 1).is_multiple_of(self.drip_every) {
             self.drip();
         }
         self.grow_layer_allowances();
