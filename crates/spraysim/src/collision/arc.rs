@@ -130,11 +130,6 @@ impl Small {
         }
     }
 
-    /// The last number, if any.
-    fn last(&self) -> Option<f64> {
-        self.len.checked_sub(1).map(|i| self.items[i])
-    }
-
     /// Drops consecutive repeats.
     fn dedup(&mut self) {
         let mut n = 0;
@@ -210,7 +205,7 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
         }
         out.push(b);
     }
-    if eval(c, hi) == 0.0 && out.last() != Some(hi) {
+    if eval(c, hi) == 0.0 && out.last() != Some(&hi) {
         out.push(hi);
     }
     out.dedup();
