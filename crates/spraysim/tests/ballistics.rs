@@ -2,8 +2,8 @@
 //! semi-implicit Euler at first order in Δt. (`spraysim validate` runs the same experiment over
 //! more steps.)
 
-use spraysim::integrator::Integrator;
-use spraysim::validation::checks::{landing_x, landing_x_closed_form};
+use spraysim::motion::Integrator;
+use spraysim_validate::checks::{landing_x, landing_x_closed_form};
 
 #[test]
 fn exact_integrator_lands_where_the_closed_form_says_at_any_step() {
@@ -36,8 +36,9 @@ fn euler_schemes_converge_at_first_order() {
 /// fates to within a few particles, and the same layer to within sampling noise.
 #[test]
 fn exact_flights_skip_open_space_without_changing_where_particles_land() {
-    use spraysim::bench::ReferenceScene;
-    use spraysim::{Scenario, Simulation};
+    use spraysim::Scenario;
+    use spraysim::deposit::DepositSurface;
+    use spraysim_bench::ReferenceScene;
     let sc = ReferenceScene {
         spawn_rate: 2e5,
         duration: 0.3,
@@ -48,7 +49,7 @@ fn exact_flights_skip_open_space_without_changing_where_particles_land() {
     .scenario()
     .expect("the reference scene is valid");
     let run = |lazy: bool, sc: &Scenario| {
-        let mut sim = Simulation::new(sc).expect("valid");
+        let mut sim = sc.build().expect("valid");
         sim.set_lazy_flight(lazy);
         sim.run(|_| {});
         sim
@@ -81,6 +82,6 @@ fn exact_flights_skip_open_space_without_changing_where_particles_land() {
         b.fates
     );
     assert!(close(a.fates.left_domain.count, b.fates.left_domain.count), "{:?} vs {:?}", a.fates, b.fates);
-    let (wa, wb) = (&lazy.targets()[0].field, &every.targets()[0].field);
+    let (wa, wb) = (&lazy.targets()[0].surface, &every.targets()[0].surface);
     assert!((wa.volume() - wb.volume()).abs() <= 0.005 * wb.volume(), "{} vs {}", wa.volume(), wb.volume());
 }

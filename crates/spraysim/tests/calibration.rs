@@ -1,18 +1,19 @@
 //! Calibration recovers the emitter parameters that made a profile.
 
 use spraysim::Scenario;
-use spraysim::calibration::{CalibrationSettings, FitParam, MeasuredProfile, calibrate};
-use spraysim::integrator::Integrator;
+use spraysim::scenario::DirectionLaw;
+use spraysim_calibrate::{CalibrationSettings, FitParam, MeasuredProfile, calibrate};
 
 /// Shotcrete preset nozzle 1 m above a floor, spraying down for 0.1 s at `rate` particles/s.
 fn floor_scene(mu: f64, sigma: f64, seed: u64, rate: f64) -> Scenario {
-    let mut sc = Scenario::from_toml(
+    Scenario::from_toml(
         &format!(
             r#"
             [simulation]
             duration = 0.2
             dt = 0.01
             seed = {seed}
+            integrator = "exact"
             [process]
             preset = "shotcrete"
             [process.impact]
@@ -41,21 +42,19 @@ fn floor_scene(mu: f64, sigma: f64, seed: u64, rate: f64) -> Scenario {
         ),
         "floor",
     )
-    .unwrap_or_else(|e| panic!("{e}"));
-    sc.simulation.integrator = Integrator::Exact;
-    sc
+    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The radial profile of a run, as a measured-profile CSV in mm.
 fn synthetic_profile(sc: &Scenario) -> MeasuredProfile {
-    let mut sim = spraysim::Simulation::new(sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
-    let field = &sim.targets()[0].field;
+    let field = &sim.targets()[0].surface.as_rectangle().expect("a rectangle").field;
     let radii: Vec<f64> = (0..20).map(|i| 0.0025 + 0.005 * i as f64).collect();
-    let sampler = spraysim::calibration::ProfileSampler::new(
+    let sampler = spraysim_calibrate::ProfileSampler::new(
         field,
         &radii,
-        spraysim::calibration::ProfileShape::Radial,
+        spraysim_calibrate::ProfileShape::Radial,
         (0.0, 0.0),
         0.0,
     )
@@ -92,5 +91,8 @@ fn calibration_recovers_mu_and_sigma_from_a_synthetic_profile() {
     );
     assert!(cal.initial_errors.rms > 0.2, "the start was not far off: {:?}", cal.initial_errors);
     // The fitted scenario carries the values.
-    assert_eq!((cal.scenario.emitter.mu, cal.scenario.emitter.sigma), (cal.fitted[0], cal.fitted[1]));
+    let DirectionLaw::TruncatedNormal { mu, sigma, .. } = cal.scenario.emitter().direction else {
+        panic!("the fitted scenario keeps its direction law");
+    };
+    assert_eq!((mu, sigma), (cal.fitted[0], cal.fitted[1]));
 }

@@ -1,14 +1,13 @@
 //! Deposition and impact statistics against closed forms (physics-notes, "Analytic checks").
-//! The experiments live in `spraysim::validation::checks`; `spraysim validate` runs them ten
+//! The experiments live in `spraysim_validate::checks`; `spraysim validate` runs them ten
 //! times larger.
 
-use spraysim::emitter::DirectionKind;
-use spraysim::validation::checks::{cone_law, restitution};
-use spraysim::validation::chi2_limit;
+use spraysim_validate::checks::{cone_law, restitution};
+use spraysim_validate::chi2_limit;
 
 #[test]
 fn a_cone_onto_a_plane_follows_the_cos3_law_in_shape_and_volume() {
-    let c = cone_law(DirectionKind::UniformSolidAngle, 3e5, 0);
+    let c = cone_law("uniform_solid_angle", 3e5, 0);
     // Everything lands: the absolute volume is the emitted volume.
     assert_eq!(c.stuck, c.emitted);
     assert!((c.volumes.1 - c.volumes.0).abs() <= 1e-12 * c.volumes.0, "{:?}", c.volumes);
@@ -20,7 +19,7 @@ fn a_cone_onto_a_plane_follows_the_cos3_law_in_shape_and_volume() {
     eprintln!("cone χ² = {:.1} over {dof} annuli", c.chi2);
     assert!(c.chi2 < limit, "χ² = {} over {dof} annuli (limit {limit})", c.chi2);
     // Uniform in polar angle concentrates at the axis: the same test rejects it.
-    let wrong = cone_law(DirectionKind::UniformPolar, 3e5, 0);
+    let wrong = cone_law("uniform_polar", 3e5, 0);
     assert!(wrong.chi2 > 10.0 * limit, "uniform_polar passed the cos³ law: χ² = {}", wrong.chi2);
 }
 

@@ -2,23 +2,31 @@
 
 use glam::DVec3;
 use spraysim::Simulation;
-use spraysim::cohesion::{Strength, analyse};
-use spraysim::heightfield::HeightField;
+use spraysim::collision::Face;
+use spraysim::deposit::RectangleSurface;
+use spraysim::process::layer::{Strength, analyse};
 
 const RHO: f64 = 2300.0;
 const G: DVec3 = DVec3::new(0.0, 0.0, -9.81);
 const S: Strength = Strength { tensile: 1500.0, shear: 5000.0, cohesion: 2000.0 };
 
-fn uniform(t: f64) -> HeightField {
-    let mut f = HeightField::new(1.0, 1.0, 40, 40, 0.0);
+/// A `size` m square face with outward `normal`, `cells` × `cells` cells.
+fn face(normal: DVec3, size: f64, cells: usize) -> RectangleSurface {
+    let up = if normal.cross(DVec3::Z).length() > 1e-9 { DVec3::Z } else { DVec3::X };
+    RectangleSurface::new(Face::new(DVec3::ZERO, normal, up, [size, size]), cells, cells, 0.0)
+}
+
+fn uniform(t: f64, normal: DVec3) -> RectangleSurface {
+    let mut r = face(normal, 1.0, 40);
     for c in 0..1600 {
-        f.deposit(c, t * f.cell_area());
+        let area = r.field.cell_area();
+        r.field.deposit(c, t * area);
     }
-    f
+    r
 }
 
 fn fails(t: f64, normal: DVec3) -> bool {
-    analyse(&uniform(t), normal, RHO, G, &S).regions.iter().any(|r| r.fails())
+    analyse(&uniform(t, normal), RHO, G, &S).regions.iter().any(|r| r.fails())
 }
 
 #[test]
@@ -40,13 +48,14 @@ fn uniform_layers_fail_at_the_analytic_thicknesses() {
 fn small_patches_hang_on_and_large_ones_fall() {
     // A thick square patch on a thin, intact ceiling layer.
     let patch = |side: usize| {
-        let mut f = HeightField::new(2.0, 2.0, 100, 100, 0.0);
+        let mut f = face(-DVec3::Z, 2.0, 100);
         for c in 0..10_000u32 {
             let (r, col) = (c as usize / 100, c as usize % 100);
             let t = if r < side && col < side { 0.2 } else { 0.01 };
-            f.deposit(c, t * f.cell_area());
+            let area = f.field.cell_area();
+            f.field.deposit(c, t * area);
         }
-        analyse(&f, -DVec3::Z, RHO, G, &S)
+        analyse(&f, RHO, G, &S)
     };
     let small = patch(3);
     assert_eq!(small.regions.len(), 1);
@@ -65,8 +74,8 @@ fn sprayed(
     duration: f64,
     interval: f64,
 ) -> Simulation {
-    let sc = spraysim::validation::checks::sprayed_face(normal, up, center, flow, duration, interval, 1e5);
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let sc = spraysim_validate::checks::sprayed_face(normal, up, center, flow, duration, interval, 1e5);
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
     sim
 }

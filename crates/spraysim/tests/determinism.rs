@@ -1,6 +1,6 @@
 //! Same scenario and seed, same bytes: whatever the thread count.
 
-use spraysim::{Scenario, Simulation};
+use spraysim::Scenario;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -45,10 +45,10 @@ fn busy_scene(seed: u64) -> Scenario {
 }
 
 fn outputs(sc: &Scenario, threads: usize, dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut sim = Simulation::new(sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.set_threads(threads).expect("pool");
     sim.run(|_| {});
-    let files = spraysim::io::write_outputs(&sim, dir).expect("written");
+    let files = spraysim::output::write_outputs(&sim, sc, dir).expect("written");
     files
         .iter()
         .map(|f| {
@@ -100,8 +100,7 @@ fn the_resolved_scenario_reproduces_the_run() {
 #[test]
 fn the_exact_integrator_is_deterministic_across_thread_counts() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    let mut sc = busy_scene(3);
-    sc.simulation.integrator = spraysim::integrator::Integrator::Exact;
+    let sc = busy_scene(3).with("simulation.integrator", "exact").expect("valid");
     let one = outputs(&sc, 1, &tmp.path().join("e1"));
     let two = outputs(&sc, 2, &tmp.path().join("e2"));
     assert_eq!(one, two);

@@ -40,7 +40,7 @@ fn the_reference_shows_the_default_scene_as_shipped() {
 #[test]
 fn the_committed_validation_report_is_what_validate_writes_and_every_check_passes() {
     // The same experiments at the same size as `spraysim validate --output docs`.
-    let report = spraysim::validation::report(spraysim::validation::Size::times(10.0), 0, |_| {});
+    let report = spraysim_validate::report(spraysim_validate::Size::times(10.0), 0, |_| {});
     let failed: Vec<_> = report.verdicts.iter().filter(|v| !v.passed).collect();
     assert!(failed.is_empty(), "failed checks: {failed:#?}");
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
@@ -54,6 +54,41 @@ fn the_committed_validation_report_is_what_validate_writes_and_every_check_passe
         assert!(
             std::path::Path::new(&format!("{root}/docs/validation/{stem}.png")).is_file(),
             "{stem}.png missing"
+        );
+    }
+}
+
+/// `docs/architecture.md` describes every crate of the workspace, and every path it names exists.
+#[test]
+fn the_architecture_document_matches_the_workspace() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let doc = std::fs::read_to_string(format!("{root}/docs/architecture.md")).expect("docs/architecture.md");
+    let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).expect("Cargo.toml");
+    let members: Vec<&str> = manifest
+        .split("members = [")
+        .nth(1)
+        .and_then(|rest| rest.split(']').next())
+        .expect("workspace members")
+        .split(',')
+        .map(|m| m.trim().trim_matches('"'))
+        .filter(|m| !m.is_empty())
+        .collect();
+    assert!(members.len() >= 8, "{members:?}");
+    for m in &members {
+        assert!(doc.contains(&format!("(`{m}`)")), "docs/architecture.md does not describe {m}");
+    }
+    // Every `crates/…` or `engine/src/…` path in backquotes exists.
+    for quoted in doc.split('`').skip(1).step_by(2) {
+        let path = if quoted.starts_with("crates/") {
+            quoted.to_string()
+        } else if quoted.starts_with("engine/src/") || quoted.starts_with("io/scenario/src/") {
+            format!("crates/{quoted}")
+        } else {
+            continue;
+        };
+        assert!(
+            std::path::Path::new(&format!("{root}/{path}")).exists(),
+            "docs/architecture.md names {path}, which does not exist"
         );
     }
 }

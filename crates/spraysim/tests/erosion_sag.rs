@@ -1,5 +1,6 @@
 //! Blasting erosion of a coating, and sag risk of a painted film.
 
+use spraysim::deposit::DepositSurface;
 use spraysim::{Metrics, Scenario, Simulation};
 
 /// A coated wall blasted for 0.5 s from a nozzle 0.3 m away whose axis makes `gamma_deg` with
@@ -36,7 +37,7 @@ fn blast(gamma_deg: f64, model: &str, cone_deg: f64) -> (Simulation, Metrics) {
         az = -g.cos(),
     );
     let sc = Scenario::from_toml(&text, "blast").unwrap_or_else(|e| panic!("{e}"));
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
     let m = sim.metrics();
     (sim, m)
@@ -55,7 +56,7 @@ fn oblique_grit_erodes_far_more_than_square_grit_under_finnie() {
     // Oka: every grain removes g(γ) E90 m, so the two jets erode in the ratio of g.
     let (_, oka_oblique) = blast(20.0, "oka", 0.0);
     let (_, oka_square) = blast(90.0, "oka", 0.0);
-    let g = |deg: f64| spraysim::erosion::oka_g(deg.to_radians(), 0.71, 2.4, 1.6);
+    let g = |deg: f64| spraysim::process::erosion::oka_g(deg.to_radians(), 0.71, 2.4, 1.6);
     let ratio = depth(&oka_oblique) / depth(&oka_square);
     assert!((ratio / (g(20.0) / g(90.0)) - 1.0).abs() < 0.01, "ratio {ratio} vs g {}", g(20.0) / g(90.0));
 }
@@ -64,27 +65,23 @@ fn oblique_grit_erodes_far_more_than_square_grit_under_finnie() {
 fn the_coating_goes_first_where_erosion_is_strongest() {
     let (sim, m) = blast(20.0, "finnie", 15.0);
     let wall = &sim.targets()[0];
+    let maps = wall.erosion.as_ref().expect("erosion on");
     let cleaned = m.targets[0].erosion.as_ref().and_then(|e| e.cleaned_fraction).expect("coated");
     assert!(cleaned > 0.0 && cleaned < 0.5, "cleaned share {cleaned}");
     // Every cleaned cell has been eroded at least as deep as any cell still coated.
-    let deepest_coated = wall
-        .erosion
+    let deepest_coated =
+        maps.eroded.iter().zip(&maps.coating).filter(|(_, c)| **c > 0.0).map(|(e, _)| *e).fold(0.0, f64::max);
+    let shallowest_clean = maps
+        .eroded
         .iter()
-        .zip(&wall.coating)
-        .filter(|(_, c)| **c > 0.0)
-        .map(|(e, _)| *e)
-        .fold(0.0, f64::max);
-    let shallowest_clean = wall
-        .erosion
-        .iter()
-        .zip(&wall.coating)
+        .zip(&maps.coating)
         .filter(|(_, c)| **c <= 0.0)
         .map(|(e, _)| *e)
         .fold(f64::INFINITY, f64::min);
     assert!(shallowest_clean >= deepest_coated && shallowest_clean >= 0.00005);
     // Nothing deposits, and the coating never goes below zero.
-    assert_eq!(wall.field.volume(), 0.0);
-    assert!(wall.coating.iter().all(|&c| (0.0..=0.00005).contains(&c)));
+    assert_eq!(wall.surface.volume(), 0.0);
+    assert!(maps.coating.iter().all(|&c| (0.0..=0.00005).contains(&c)));
     assert!(m.targets[0].hits_per_cm2 > 0.0);
 }
 
@@ -115,7 +112,7 @@ fn paint(normal: [f64; 3], up: [f64; 3], extra: &str) -> Metrics {
         (-n).to_array()
     );
     let sc = Scenario::from_toml(&text, "paint").unwrap_or_else(|e| panic!("{e}"));
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
     sim.metrics()
 }

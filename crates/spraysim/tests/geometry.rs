@@ -4,7 +4,7 @@ use glam::DVec3;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use spraysim::collision::{Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle};
+use spraysim::collision::{Cylinder, Disk, Face, OrientedBox, Plane, Primitive, Shape, Sphere, Triangle};
 
 /// Samples per segment of the brute-force reference.
 const SAMPLES: usize = 20_000;

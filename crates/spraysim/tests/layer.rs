@@ -1,11 +1,13 @@
 //! Layer-aware impacts: particles strike the top of the deposited layer, at its local slope.
 
 use glam::DVec3;
+use spraysim::Scenario;
 use spraysim::collision::Face;
-use spraysim::heightfield::{HeightField, LayerContact};
-use spraysim::impact::{ImpactModel, ReboundCurve};
+use spraysim::deposit::{HeightField, LayerContact};
+use spraysim::process::rebound::PolynomialRebound;
+use spraysim::process::{ImpactModel, ImpactSite};
 use spraysim::scenario::SHOTCRETE_REBOUND_POLYNOMIAL;
-use spraysim::{Scenario, Simulation};
+use std::sync::Arc;
 
 /// A floor face 1 m × 1 m carrying a flat-topped cone at its centre: 0.2 m high, a crown of
 /// 0.05 m radius, flanks of slope 1 down to a 0.25 m radius.
@@ -25,7 +27,7 @@ fn cone() -> (Face, HeightField) {
 fn shotcrete() -> ImpactModel {
     ImpactModel {
         alpha: 1.0,
-        curve: ReboundCurve::Polynomial(SHOTCRETE_REBOUND_POLYNOMIAL.to_vec()),
+        rebound: Arc::new(PolynomialRebound { coefficients: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec() }),
         restitution: 0.04,
         scatter: 0.0,
         rest_speed: 0.0,
@@ -33,6 +35,11 @@ fn shotcrete() -> ImpactModel {
         cushion_factor: 1.0,
         cushion_thickness: 0.0,
     }
+}
+
+/// `model`'s rebound probability at `theta` (rad from the normal) over a layer of `layer` (m).
+fn prob(model: &ImpactModel, theta: f64, layer: Option<f64>) -> f64 {
+    model.rebound_probability(&ImpactSite { velocity: DVec3::NEG_Z, normal: DVec3::Z, theta, layer })
 }
 
 #[test]
@@ -55,8 +62,8 @@ fn a_vertical_drop_meets_the_layer_top_with_the_local_slope() {
     // The same vertical impact rebounds more often on the flank than on the top.
     let model = shotcrete();
     let v = DVec3::new(0.0, 0.0, -20.0);
-    let p_top = model.rebound_probability((-v.normalize()).dot(DVec3::Z).acos(), Some(0.2));
-    let p_flank = model.rebound_probability((-v.normalize()).dot(n).acos(), Some(0.1));
+    let p_top = prob(&model, (-v.normalize()).dot(DVec3::Z).acos(), Some(0.2));
+    let p_flank = prob(&model, (-v.normalize()).dot(n).acos(), Some(0.1));
     assert!(p_flank > 3.0 * p_top, "flank {p_flank} vs top {p_top}");
 }
 
@@ -91,11 +98,12 @@ fn segments_ending_inside_the_layer_always_meet_it() {
 fn rebound_grows_as_a_static_lump_builds_up() {
     // A nozzle held still builds a steep lump whose flanks deflect what follows.
     let ratio = |duration: f64| {
-        let mut sc = Scenario::default_scene();
         // The preset's narrow jet (the paper's μ, σ), held still.
-        sc.emitter = spraysim::scenario::Preset::Shotcrete.emitter();
-        sc.simulation.duration = duration;
-        let mut sim = Simulation::new(&sc).expect("valid");
+        let sc = (Scenario::default_scene().with("emitter.direction", "truncated_normal"))
+            .and_then(|sc| sc.with("emitter.cone_angle", 14.0))
+            .and_then(|sc| sc.with("simulation.duration", duration))
+            .expect("valid");
+        let mut sim = sc.build().expect("valid");
         sim.run(|_| {});
         sim.metrics().rebound_ratio.expect("impacts")
     };
@@ -106,12 +114,12 @@ fn rebound_grows_as_a_static_lump_builds_up() {
 #[test]
 fn the_cushion_multiplier_decays_from_bare_substrate_to_one() {
     let model = ImpactModel { cushion_factor: 2.0, cushion_thickness: 0.02, ..shotcrete() };
-    let base = shotcrete().rebound_probability(0.0, Some(0.0));
-    assert!((model.rebound_probability(0.0, Some(0.0)) - 2.0 * base).abs() < 1e-12);
-    assert!((model.rebound_probability(0.0, Some(0.01)) - 1.5 * base).abs() < 1e-12);
-    assert!((model.rebound_probability(0.0, Some(0.05)) - base).abs() < 1e-12);
+    let base = prob(&shotcrete(), 0.0, Some(0.0));
+    assert!((prob(&model, 0.0, Some(0.0)) - 2.0 * base).abs() < 1e-12);
+    assert!((prob(&model, 0.0, Some(0.01)) - 1.5 * base).abs() < 1e-12);
+    assert!((prob(&model, 0.0, Some(0.05)) - base).abs() < 1e-12);
     // Off targets (no layer) the multiplier does not apply.
-    assert!((model.rebound_probability(0.0, None) - base).abs() < 1e-12);
+    assert!((prob(&model, 0.0, None) - base).abs() < 1e-12);
 }
 
 /// Regression: material entering a taller column through its side was stacked on that column,
@@ -120,18 +128,18 @@ fn the_cushion_multiplier_decays_from_bare_substrate_to_one() {
 #[test]
 fn a_static_jet_builds_a_mound_not_needles() {
     // The reference wall without its rebars (whose shadows would cut the mound into tiles).
-    let mut sc = spraysim::bench::ReferenceScene {
+    let sc = spraysim_bench::ReferenceScene {
         spawn_rate: 2e5,
         duration: 0.5,
         resolution: 512,
+        rebar: false,
         ..Default::default()
     }
     .scenario()
     .expect("the reference scene is valid");
-    sc.obstacles.clear();
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
-    let wall = &sim.targets()[0].field;
+    let wall = &sim.targets()[0].surface.as_rectangle().expect("a rectangle").field;
     let (cols, t) = (wall.cols(), wall.thickness());
     // Each column against the mean of the 7 × 7 columns around it: a mound is locally smooth,
     // up to the scatter of a few dozen deposits per column; a needle stands far above.

@@ -1,5 +1,6 @@
 //! Triangle-mesh obstacles from OBJ and STL files.
 
+use spraysim::collision::Primitive;
 use spraysim::{Metrics, Scenario, Simulation};
 use std::path::Path;
 
@@ -69,7 +70,7 @@ fn scene(obstacle: &str) -> String {
 
 fn run(path: &Path) -> (Simulation, Metrics) {
     let sc = Scenario::from_path(path).unwrap_or_else(|e| panic!("{e}"));
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     let block = spraysim::collision::Shape::Box(spraysim::collision::OrientedBox {
         center: glam::DVec3::new(-0.3, 0.0, 1.0),
         axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
@@ -80,7 +81,7 @@ fn run(path: &Path) -> (Simulation, Metrics) {
         let sw = sim.swarm();
         for (p, f) in sw.pos.iter().zip(&sw.flags) {
             assert!(
-                f & spraysim::swarm::flags::ALIVE == 0 || !block.contains(*p),
+                f & spraysim::particles::flags::ALIVE == 0 || !block.contains(*p),
                 "a grain inside the mesh at {p}"
             );
         }

@@ -2,8 +2,10 @@
 //! process behaviour.
 
 use glam::DVec3;
-use spraysim::emitter::{Aperture, Direction, Emitter};
-use spraysim::scenario::{Role, SHOTCRETE_REBOUND_POLYNOMIAL};
+use spraysim::deposit::DepositSurface;
+use spraysim::emission::{Aperture, Direction, Emitter};
+use spraysim::scenario::SHOTCRETE_REBOUND_POLYNOMIAL;
+use spraysim::world::Role;
 use spraysim::{Metrics, Scenario, Simulation};
 
 fn scenario(text: &str) -> Scenario {
@@ -11,7 +13,7 @@ fn scenario(text: &str) -> Scenario {
 }
 
 fn run(sc: &Scenario) -> Simulation {
-    let mut sim = Simulation::new(sc).unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = sc.build().unwrap_or_else(|e| panic!("{e}"));
     sim.run(|_| {});
     sim
 }
@@ -26,8 +28,8 @@ fn assert_conserved(m: &Metrics) {
 /// Σ thickness × cell area equals the stuck volume on every target.
 fn assert_layer_volumes(sim: &Simulation) {
     for t in sim.targets() {
-        let rel = (t.field.volume() - t.stuck.volume).abs() / t.stuck.volume.max(1e-300);
-        assert!(rel < 1e-6, "{}: layer {} m³ vs stuck {} m³", t.name, t.field.volume(), t.stuck.volume);
+        let rel = (t.surface.volume() - t.stuck.volume).abs() / t.stuck.volume.max(1e-300);
+        assert!(rel < 1e-6, "{}: layer {} m³ vs stuck {} m³", t.name, t.surface.volume(), t.stuck.volume);
     }
 }
 
@@ -69,9 +71,9 @@ fn moments(t: &[f64], cols: usize) -> (f64, f64, f64, f64, f64) {
 #[test]
 fn default_spot_is_round_and_centred_on_the_aim_point() {
     let sim = run(&Scenario::default_scene());
-    let wall = &sim.targets()[0];
-    let cols = wall.field.cols();
-    let (cx, cy, sxx, syy, sxy) = moments(wall.field.thickness(), cols);
+    let wall = &sim.targets()[0].surface.as_rectangle().expect("a rectangle").field;
+    let cols = wall.cols();
+    let (cx, cy, sxx, syy, sxy) = moments(wall.thickness(), cols);
     // The nozzle aims at the wall's centre, cell (512, 512); gravity pulls the spot down by
     // g·t²/2 ≈ 8 mm ≈ 4 cells at 25 m/s over 1 m.
     assert!((cx - 512.0).abs() < 2.0, "centroid column {cx}");
@@ -84,10 +86,17 @@ fn default_spot_is_round_and_centred_on_the_aim_point() {
 #[test]
 fn spawn_count_with_fractional_carry_is_exact() {
     let rate = 12_345.678;
-    let mut e = Emitter::new(Aperture::Point, Direction::UniformPolar, 0.1, [1.0, 2.0], rate, 1e-9);
-    let mut n = 0;
+    let e = Emitter {
+        aperture: Aperture::Point,
+        direction: Direction::UniformPolar,
+        cone_half_angle: 0.1,
+        speed: [1.0, 2.0],
+        spawn_rate: rate,
+        particle_volume: 1e-9,
+    };
+    let (mut n, mut carry) = (0, 0.0);
     for step in 1..=10_000u64 {
-        n += e.spawn_count(3.7e-4);
+        n += e.spawn_count(3.7e-4, &mut carry);
         let expected = rate * 3.7e-4 * step as f64;
         assert!((n as f64 - expected).abs() < 1.0 + 1e-6, "after {step} steps: {n} vs {expected}");
     }
@@ -96,12 +105,12 @@ fn spawn_count_with_fractional_carry_is_exact() {
 /// 2 × 10⁴ particles straight down onto a shotcrete plate tilted by `theta_deg`; `extra` goes
 /// into `[process.impact]`.
 fn tilted_face(theta_deg: f64, alpha: f64, extra: &str) -> Scenario {
-    spraysim::validation::checks::tilted_plate(theta_deg, alpha, 2e4, 7, extra)
+    spraysim_validate::checks::tilted_plate(theta_deg, alpha, 2e4, 7, extra)
 }
 
 #[test]
 fn rebound_fraction_at_fixed_angle_matches_alpha_times_curve() {
-    use spraysim::validation::checks::rebound_fraction;
+    use spraysim_validate::checks::rebound_fraction;
     for (theta, alpha) in [(0.0, 1.0), (30.0, 1.0), (45.0, 1.0), (45.0, 0.5), (55.0, 0.8)] {
         let r = rebound_fraction(theta, alpha, 2e4, 7, 0);
         assert!(r.conserved);
@@ -127,10 +136,11 @@ fn forced_and_suppressed_rebound_curves() {
 #[test]
 fn rebound_speed_is_restitution_times_impact_speed() {
     use rand::SeedableRng;
-    use spraysim::impact::{ImpactModel, Outcome, ReboundCurve};
+    use spraysim::process::rebound::AlwaysRebound;
+    use spraysim::process::{ImpactModel, Outcome};
     let model = ImpactModel {
         alpha: 1.0,
-        curve: ReboundCurve::Always,
+        rebound: std::sync::Arc::new(AlwaysRebound),
         restitution: 0.7,
         scatter: 15f64.to_radians(),
         rest_speed: 0.0,
@@ -160,7 +170,7 @@ fn rebound_speed_is_restitution_times_impact_speed() {
 
 /// A preset sprayed at a 1.5 m panel over a collector floor for 0.3 s, with `extra` TOML.
 fn panel(preset: &str, extra: &str) -> Scenario {
-    spraysim::validation::checks::panel_scene(preset, 0.3, extra)
+    spraysim_validate::checks::panel_scene(preset, 0.3, extra)
 }
 
 #[test]
@@ -217,18 +227,22 @@ fn particles_never_end_a_step_inside_a_solid() {
         radius = 0.01
         "#,
     );
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     let mut checked = 0usize;
     while !sim.is_finished() {
         sim.step();
         let sw = sim.swarm();
         for (i, p) in sw.pos.iter().enumerate() {
-            if sw.flags[i] & spraysim::swarm::flags::ALIVE == 0 {
+            if sw.flags[i] & spraysim::particles::flags::ALIVE == 0 {
                 continue;
             }
             checked += 1;
             for s in sim.scene().surfaces() {
-                assert!(!s.shape.contains(*p), "inside {:?} at {p}", s.kind);
+                assert!(
+                    !spraysim::collision::Primitive::contains(&s.shape, *p),
+                    "inside {:?} at {p}",
+                    s.kind
+                );
             }
         }
     }
@@ -296,7 +310,7 @@ fn waypoints_move_the_spot_and_switch_the_spray() {
     // Spraying only during the first half second.
     assert_eq!(m.emitted.count, 10_000);
     // The pass runs from y = +0.5 (column 50) to y = −0.5 (column 150): right = up × normal = −y.
-    let t = sim.targets()[0].field.thickness();
+    let t = sim.targets()[0].surface.thickness();
     let column_sum = |c: usize| (0..200).map(|r| t[r * 200 + c]).sum::<f64>();
     assert!(column_sum(60) > 0.0 && column_sum(100) > 0.0 && column_sum(140) > 0.0);
     assert_eq!(column_sum(20), 0.0);
@@ -305,8 +319,8 @@ fn waypoints_move_the_spot_and_switch_the_spray() {
 
 #[test]
 fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
-    use spraysim::bench::ReferenceScene;
-    use spraysim::integrator::Integrator;
+    use spraysim::motion::Integrator;
+    use spraysim_bench::ReferenceScene;
     let run_with = |integrator| {
         let sc = ReferenceScene {
             spawn_rate: 2e5,
@@ -343,9 +357,9 @@ fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
 fn the_impact_log_samples_the_requested_share_of_impacts() {
     let tmp = tempfile::tempdir().expect("tempdir");
     for (share, tol) in [(1.0, 0.0), (0.25, 0.02)] {
-        let mut sc = panel("shotcrete", "");
-        sc.output.impact_log = share;
-        sc.simulation.duration = 0.5;
+        let sc = (panel("shotcrete", "").with("output.impact_log", share))
+            .and_then(|sc| sc.with("simulation.duration", 0.5))
+            .expect("valid");
         let sim = run(&sc);
         let m = sim.metrics();
         let hits: u64 =
@@ -358,7 +372,7 @@ fn the_impact_log_samples_the_requested_share_of_impacts() {
             assert_eq!(stuck, m.targets.iter().map(|t| t.stuck.count + t.stuck_on_back.count).sum::<u64>());
             // Impacts lie on their surfaces, with velocities against the normal.
             assert!(logged.iter().all(|i| i.velocity.dot(i.normal) <= 0.0 && i.time <= m.time));
-            let files = spraysim::io::write_outputs(&sim, &tmp.path().join("log")).expect("written");
+            let files = spraysim::output::write_outputs(&sim, &sc, &tmp.path().join("log")).expect("written");
             let csv = std::fs::read_to_string(tmp.path().join("log/impacts.csv")).expect("impact log");
             assert_eq!(csv.lines().count(), logged.len() + 1);
             assert!(

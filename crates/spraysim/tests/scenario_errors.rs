@@ -62,9 +62,10 @@ fn line_of(text: &str, needle: &str) -> usize {
 #[test]
 fn the_good_scenario_is_accepted() {
     let sc = Scenario::from_toml(GOOD, "scene.toml").unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(sc.targets[0].resolution, [64, 64]);
-    assert_eq!(sc.emitter.spawn_rate, 1000.0);
-    assert_eq!(sc.emitter.speed, [20.0, 30.0]); // from the preset
+    let spraysim::scenario::TargetShape::Rectangle { resolution, .. } = sc.targets()[0].shape;
+    assert_eq!(resolution, [64, 64]);
+    assert_eq!(sc.emitter().spawn_rate, 1000.0);
+    assert_eq!(sc.emitter().speed, [20.0, 30.0]); // from the preset
 }
 
 #[test]
@@ -107,13 +108,23 @@ fn process_impact_overrides_are_checked() {
     );
 }
 
+/// Unknown keys, wrong types and unknown words name their key and line, like range errors.
 #[test]
-fn unknown_keys_wrong_types_and_unknown_presets_are_syntax_errors_with_a_line() {
+fn unknown_keys_wrong_types_and_unknown_presets_name_the_key() {
     for (section, key, line, expect) in [
-        ("[simulation]", "dtt", "dtt = 0.001", "unknown field `dtt`"),
-        ("[[target]]", "colour", "colour = \"red\"", "unknown field `colour`"),
-        ("[simulation]", "dt", "dt = \"fast\"", "invalid type"),
-        ("[process]", "preset", "preset = \"gunite\"", "unknown variant `gunite`"),
+        ("[simulation]", "dtt", "dtt = 0.001", "`simulation.dtt` is not a key of [simulation]"),
+        ("[[target]]", "colour", "colour = \"red\"", "`target[0].colour` is not a key of a rectangle target"),
+        (
+            "[simulation]",
+            "dt",
+            "dt = \"fast\"",
+            "`simulation.dt` must be a number (s), got the string \"fast\"",
+        ),
+        ("[simulation]", "dt", "dt = [0.001]", "`simulation.dt` must be a number (s), got an array"),
+        ("[[target]]", "name", "name = [\"wall\"]", "`target[0].name` must be a string, got an array"),
+        ("[process]", "preset", "preset = \"gunite\"", "`process.preset` must be one of \"shotcrete\""),
+        ("[[target]]", "size", "size = [2.0, 2.0, 2.0]", "`target[0].size` must be an array of 2 numbers"),
+        ("[emitter]", "spawn_rate", "shape = \"triangle\"", "`emitter.shape` must be one of \"point\""),
     ] {
         let text = with(section, key, line);
         let msg = refused(&text);
@@ -123,7 +134,27 @@ fn unknown_keys_wrong_types_and_unknown_presets_are_syntax_errors_with_a_line() 
     }
     let missing = GOOD.replace("up = [0.0, 0.0, 1.0]\n", "");
     let msg = refused(&missing);
-    assert!(msg.contains("missing field `up`"), "{msg}");
+    assert!(msg.contains("`target[0].up` is required"), "{msg}");
+}
+
+/// Keys the chosen shape or model does not use are refused, NaN or not: they would otherwise be
+/// silently ignored.
+#[test]
+fn keys_of_another_shape_are_refused() {
+    for (section, line, expect) in [
+        ("[emitter]", "width = nan", "`emitter.width` is not a key of an emitter with shape = \"circle\""),
+        ("[emitter]", "fan_wide_angle = 30.0", "`emitter.fan_wide_angle` is not a key of an emitter"),
+        (
+            "[process]",
+            "erosion.oka_hv = 2.0",
+            "`process.erosion.oka_hv` is not a key of [process.erosion] with model = \"none\"",
+        ),
+        ("[nozzle]", "circle_frequency = nan", "`nozzle.circle_frequency` must be a finite number"),
+    ] {
+        let text = with(section, "no such key", line);
+        let msg = refused(&text);
+        assert!(msg.contains(expect), "{line}: got {msg}");
+    }
 }
 
 #[test]
@@ -134,7 +165,7 @@ fn obstacles_need_the_keys_of_their_shape_and_no_others() {
     let msg = refused(&base);
     assert!(msg.contains("`obstacle[0].radius` is required for a cylinder"), "{msg}");
     let msg = refused(&format!("{base}radius = 0.01\nnormal = [1.0, 0.0, 0.0]\n"));
-    assert!(msg.contains("`obstacle[0].normal` is not used by a cylinder"), "{msg}");
+    assert!(msg.contains("`obstacle[0].normal` is not a key of a cylinder obstacle"), "{msg}");
     let msg =
         refused(&format!("{base}radius = 0.01\n").replace("end = [0.0, 0.0, 1.0]", "end = [0.0, 0.0, 0.0]"));
     assert!(msg.contains("`obstacle[0].end` must differ from start"), "{msg}");

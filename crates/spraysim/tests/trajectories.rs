@@ -1,10 +1,10 @@
 //! Robot trajectories: raster passes and CSV tool paths.
 
 use glam::{DQuat, DVec3};
+use spraysim::Scenario;
 use spraysim::collision::Face;
-use spraysim::nozzle::raster_waypoints;
-use spraysim::scenario::{PassDirection, RasterParams};
-use spraysim::{Scenario, Simulation};
+use spraysim::deposit::DepositSurface;
+use spraysim::emission::{PassDirection, RasterPlan, raster_waypoints};
 
 fn wall() -> Face {
     Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::new(-1.0, 0.0, 0.0), DVec3::Z, [2.0, 2.0])
@@ -12,14 +12,7 @@ fn wall() -> Face {
 
 #[test]
 fn raster_runs_bottom_up_at_constant_speed_and_standoff() {
-    let r = RasterParams {
-        target: "wall".into(),
-        size: Some([1.0, 0.6]),
-        step_over: 0.2,
-        speed: 0.4,
-        lead: 0.1,
-        ..RasterParams::default()
-    };
+    let r = RasterPlan { size: [1.0, 0.6], step_over: 0.2, speed: 0.4, lead: 0.1, ..RasterPlan::default() };
     let w = raster_waypoints(&wall(), &r);
     // 4 passes (0, 0.2, 0.4, 0.6 m up) of 1.2 m, 3 turns of 0.2 m: 5.4 m at 0.4 m/s.
     assert!((w[w.len() - 1].time - 5.4 / 0.4).abs() < 1e-12);
@@ -34,20 +27,19 @@ fn raster_runs_bottom_up_at_constant_speed_and_standoff() {
     // Spraying on passes, not on turns.
     let spraying: Vec<bool> = w.iter().map(|p| p.spray).collect();
     assert_eq!(spraying, [true, false, true, false, true, false, true, false]);
-    let vertical = raster_waypoints(&wall(), &RasterParams { passes: PassDirection::Vertical, ..r });
+    let vertical = raster_waypoints(&wall(), &RasterPlan { passes: PassDirection::Vertical, ..r });
     assert!((vertical[1].position.z - vertical[0].position.z).abs() > 0.5, "vertical passes run along up");
 }
 
 #[test]
 fn circular_motion_circles_the_raster_line() {
-    let r = RasterParams {
-        target: "wall".into(),
-        size: Some([1.0, 0.0]),
+    let r = RasterPlan {
+        size: [1.0, 0.0],
         speed: 0.5,
         lead: 0.0,
         circle_radius: 0.05,
         circle_frequency: 2.0,
-        ..RasterParams::default()
+        ..RasterPlan::default()
     };
     let w = raster_waypoints(&wall(), &r);
     for p in &w[..w.len() - 1] {
@@ -88,9 +80,9 @@ fn a_raster_covers_its_rectangle_and_nothing_far_outside() {
         "raster",
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
-    let t = sim.targets()[0].field.thickness();
+    let t = sim.targets()[0].surface.thickness();
     let at = |u: f64, v: f64| t[((v + 0.5) * 100.0) as usize * 100 + ((u + 0.5) * 100.0) as usize];
     for (u, v) in [(0.0, 0.0), (0.25, 0.15), (-0.25, -0.15)] {
         assert!(at(u, v) > 0.0, "no paint at ({u}, {v})");
@@ -138,10 +130,10 @@ fn a_csv_tool_path_and_the_same_waypoints_give_identical_outputs() {
         Scenario::from_toml(&raster_scene(&waypoints), "waypoints").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(from_csv, from_waypoints);
     let run = |sc: &Scenario, dir: &str| {
-        let mut sim = Simulation::new(sc).expect("valid");
+        let mut sim = sc.build().expect("valid");
         sim.run(|_| {});
         assert!(sim.metrics().emitted.count > 10_000);
-        let files = spraysim::io::write_outputs(&sim, &tmp.path().join(dir)).expect("written");
+        let files = spraysim::output::write_outputs(&sim, sc, &tmp.path().join(dir)).expect("written");
         files.iter().map(|f| std::fs::read(f).expect("read")).collect::<Vec<_>>()
     };
     assert_eq!(run(&from_csv, "a"), run(&from_waypoints, "b"));
@@ -169,7 +161,7 @@ fn bad_tool_paths_name_the_file_line_and_column() {
 
 #[test]
 fn path_metrics_report_standoff_angle_and_speed_against_the_window() {
-    let mut sim = Simulation::new(&Scenario::default_scene()).expect("valid");
+    let mut sim = Scenario::default_scene().build().expect("valid");
     sim.run(|_| {});
     let p = sim.metrics().path;
     let standoff = p.standoff.expect("a wall ahead");
@@ -180,12 +172,12 @@ fn path_metrics_report_standoff_angle_and_speed_against_the_window() {
     assert!((p.spraying_time - 2.0).abs() < 1e-9);
 
     // Tilted 30° off square at 0.6 m: both outside the shotcrete window.
-    let mut sc = Scenario::default_scene();
     let a = 30f64.to_radians();
-    sc.nozzle.position = [-0.6 * a.cos(), 0.6 * a.sin(), 1.0];
-    sc.nozzle.axis = [a.cos(), -a.sin(), 0.0];
-    sc.simulation.duration = 0.1;
-    let mut sim = Simulation::new(&sc).expect("valid");
+    let sc = (Scenario::default_scene().with("nozzle.position", [-0.6 * a.cos(), 0.6 * a.sin(), 1.0]))
+        .and_then(|sc| sc.with("nozzle.axis", [a.cos(), -a.sin(), 0.0]))
+        .and_then(|sc| sc.with("simulation.duration", 0.1))
+        .expect("valid");
+    let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
     let p = sim.metrics().path;
     let (s, g) = (p.standoff.expect("wall"), p.angle.expect("wall"));
@@ -228,9 +220,9 @@ fn the_nozzle_velocity_carries_over_to_the_particles_when_asked() {
             "#
         );
         let sc = Scenario::from_toml(&text, "carry").unwrap_or_else(|e| panic!("{e}"));
-        let mut sim = Simulation::new(&sc).expect("valid");
+        let mut sim = sc.build().expect("valid");
         sim.run(|_| {});
-        let f = &sim.targets()[0].field;
+        let f = &sim.targets()[0].surface.as_rectangle().expect("a rectangle").field;
         let (mut m, mut my) = (0.0, 0.0);
         for (c, &t) in f.thickness().iter().enumerate() {
             let (u, _) = f.cell_center(c as u32);

@@ -1,0 +1,468 @@
+//! `spraysim`: command-line front end of the spraysim library.
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use spraysim::{Metrics, Scenario};
+use spraysim_calibrate::{CalibrationSettings, FitParam, ProfileShape};
+use std::io::{ErrorKind, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Particle simulation of construction spraying: shotcrete, spray painting, abrasive blasting.
+#[derive(Parser)]
+#[command(name = "spraysim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario (the built-in default scene when none is given) and write its outputs.
+    Run {
+        /// Scenario file (TOML).
+        scenario: Option<PathBuf>,
+        /// Override a scenario value, e.g. `--set simulation.seed=3 --set emitter.speed=[20,28]`
+        /// (checked like the file's).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Output directory (overrides `[output] directory`).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Worker threads; 0 uses every core. Results do not depend on it.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+        /// No progress bar or summary.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// Validate a scenario without running it; prints the resolved scenario with `--resolved`.
+    Check {
+        /// Scenario file (TOML).
+        scenario: PathBuf,
+        /// Override a scenario value (see `run --set`).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Print the fully resolved scenario.
+        #[arg(long)]
+        resolved: bool,
+    },
+    /// Fit emitter parameters so that the simulated profile matches a measured one.
+    ///
+    /// The profile is a CSV file with a header naming position and value with units, e.g.
+    /// `radius [mm],thickness [mm]` (thickness in m, cm, mm or µm; or mass per area in kg/m²
+    /// or g/m²). Writes calibrated.toml, calibration.json, profile.csv and profile.png.
+    Calibrate {
+        /// Scenario file (TOML) to start from; its seed is used for every evaluation.
+        scenario: PathBuf,
+        /// Measured profile (CSV).
+        profile: PathBuf,
+        /// Parameters to fit, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "mu,sigma")]
+        fit: Vec<Fit>,
+        /// Target whose layer is compared (default: the first).
+        #[arg(long)]
+        target: Option<String>,
+        /// How the profile runs: from the centre, or along the target's width (`right`) or
+        /// height (`up`) axis through the centre.
+        #[arg(long, value_enum, default_value_t = Shape::Radial)]
+        shape: Shape,
+        /// Profile centre in the target's right,up coordinates, m (default: where the nozzle
+        /// axis at time 0 meets the target).
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_name = "U,V")]
+        center: Option<Vec<f64>>,
+        /// Width of the band of cells averaged for a line profile, m.
+        #[arg(long, default_value_t = 0.02)]
+        band: f64,
+        /// Compare shapes only: scale the simulated profile to the measured one first.
+        #[arg(long)]
+        shape_only: bool,
+        /// Nelder–Mead iterations at most.
+        #[arg(long, default_value_t = 100)]
+        max_iterations: u64,
+        /// Stop when the simplex's RMS errors agree within this fraction of the peak.
+        #[arg(long, default_value_t = 1e-5)]
+        tolerance: f64,
+        /// Output directory.
+        #[arg(short, long, default_value = "calibration")]
+        output: PathBuf,
+        /// Worker threads per simulation; 0 uses every core.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+        /// No progress display or summary.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// Run every check against a closed form and write a Markdown report with plots.
+    ///
+    /// Writes DIR/validation.md and DIR/validation/*.png; fails if any check fails.
+    Validate {
+        /// Output directory (`docs` regenerates the committed report).
+        #[arg(short, long, default_value = "validation")]
+        output: PathBuf,
+        /// Sample sizes as a multiple of the test suite's.
+        #[arg(long, default_value_t = 10.0)]
+        size: f64,
+        /// Worker threads; 0 uses every core. Results do not depend on it.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+    },
+    /// Print each process preset as TOML to paste into a scenario.
+    Presets,
+    /// Time the reference scene and its scaling variants; prints a Markdown table.
+    Bench {
+        /// Particles emitted per second in the throughput runs.
+        #[arg(long, default_value_t = 1e6)]
+        spawn_rate: f64,
+        /// Simulated seconds per run.
+        #[arg(long, default_value_t = 0.5)]
+        duration: f64,
+        /// Worker threads for the runs that do not vary it; 0 uses every core.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+        /// Timed runs per table row (after one untimed warm-up); the median is reported.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+        repeats: u32,
+    },
+}
+
+/// An emitter parameter calibration can fit.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Fit {
+    /// μ of the truncated-normal direction law, in units of θ_half.
+    #[value(name = "mu")]
+    Mu,
+    /// σ of the truncated-normal direction law, in units of θ_half.
+    #[value(name = "sigma")]
+    Sigma,
+    /// The full cone angle, degrees.
+    #[value(name = "cone_angle")]
+    ConeAngle,
+    /// The lowest emission speed, m/s.
+    #[value(name = "speed_min")]
+    SpeedMin,
+    /// The highest emission speed, m/s.
+    #[value(name = "speed_max")]
+    SpeedMax,
+}
+
+impl From<Fit> for FitParam {
+    fn from(f: Fit) -> FitParam {
+        match f {
+            Fit::Mu => FitParam::Mu,
+            Fit::Sigma => FitParam::Sigma,
+            Fit::ConeAngle => FitParam::ConeAngle,
+            Fit::SpeedMin => FitParam::SpeedMin,
+            Fit::SpeedMax => FitParam::SpeedMax,
+        }
+    }
+}
+
+/// How a measured profile runs across the target.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Shape {
+    /// Radially from the centre.
+    Radial,
+    /// Along the target's width axis.
+    Right,
+    /// Along the target's height axis.
+    Up,
+}
+
+impl From<Shape> for ProfileShape {
+    fn from(s: Shape) -> ProfileShape {
+        match s {
+            Shape::Radial => ProfileShape::Radial,
+            Shape::Right => ProfileShape::Right,
+            Shape::Up => ProfileShape::Up,
+        }
+    }
+}
+
+/// `println!` to stdout that returns an error instead of panicking when stdout is closed.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    };
+}
+
+/// Writes `text` to stdout as it is.
+fn write_out(text: &str) -> Result<()> {
+    std::io::stdout().lock().write_all(text.as_bytes())?;
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match dispatch(Cli::parse().command) {
+        Ok(()) => ExitCode::SUCCESS,
+        // The reader went away (`spraysim presets | head`): what it wanted, it has.
+        Err(e) if e.downcast_ref::<std::io::Error>().is_some_and(|e| e.kind() == ErrorKind::BrokenPipe) => {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The whole chain of causes on one line, without a backtrace; a cause whose text its
+/// parent already quotes (as the library's errors do) is not repeated.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !line.contains(&text) {
+            line = format!("{line}: {text}");
+        }
+    }
+    line
+}
+
+fn dispatch(command: Command) -> Result<()> {
+    match command {
+        Command::Run { scenario, set, output, threads, quiet } => {
+            run(&load(scenario.as_deref(), &set)?, output, threads, quiet)
+        }
+        Command::Check { scenario, set, resolved } => {
+            let sc = load(Some(&scenario), &set)?;
+            if resolved {
+                write_out(&sc.to_toml())?;
+            } else {
+                say!(
+                    "{}: valid ({} targets, {} obstacles)",
+                    scenario.display(),
+                    sc.targets().len(),
+                    sc.obstacles().len()
+                );
+            }
+            Ok(())
+        }
+        Command::Bench { spawn_rate, duration, threads, repeats } => {
+            let settings =
+                spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats: repeats as usize };
+            spraysim_bench::run_matrix(&settings, &mut std::io::stdout().lock())?;
+            Ok(())
+        }
+        Command::Validate { output, size, threads } => validate(&output, size, threads),
+        Command::Calibrate {
+            scenario,
+            profile,
+            fit,
+            target,
+            shape,
+            center,
+            band,
+            shape_only,
+            max_iterations,
+            tolerance,
+            output,
+            threads,
+            quiet,
+        } => {
+            let center = match center.as_deref() {
+                None => None,
+                Some(&[u, v]) => Some([u, v]),
+                Some(other) => anyhow::bail!("--center takes two numbers, U,V in m; got {}", other.len()),
+            };
+            let settings = CalibrationSettings {
+                fit: fit.into_iter().map(FitParam::from).collect(),
+                target,
+                shape: shape.into(),
+                center,
+                band,
+                shape_only,
+                max_iterations,
+                tolerance,
+                threads,
+            };
+            calibrate(&scenario, &profile, &settings, &output, quiet)
+        }
+        Command::Presets => {
+            write_out(&spraysim::scenario::presets_toml())?;
+            Ok(())
+        }
+    }
+}
+
+/// The scenario at `path` (the default scene without one), with the `--set` overrides.
+fn load(path: Option<&Path>, set: &[String]) -> Result<Scenario> {
+    let mut sc = match path {
+        Some(p) => Scenario::from_path(p)?,
+        None => Scenario::default_scene(),
+    };
+    for assignment in set {
+        sc = sc.with_assignment(assignment)?;
+    }
+    Ok(sc)
+}
+
+/// Refuses an output directory that cannot be written, before any time is spent.
+fn writable(dir: &Path) -> Result<()> {
+    spraysim::output::check_writable(dir)
+        .with_context(|| format!("output directory {} is not writable", dir.display()))
+}
+
+fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool) -> Result<()> {
+    // The resolved scenario written with the outputs names the directory they went to.
+    let scenario = &match output {
+        Some(dir) => scenario.with("output.directory", dir.display().to_string())?,
+        None => scenario.clone(),
+    };
+    let dir = PathBuf::from(&scenario.output().directory);
+    writable(&dir)?;
+    let mut sim = scenario.build()?;
+    sim.set_threads(threads)?;
+
+    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(sim.total_steps()) };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40.cyan/blue} {percent:>3}% t = {msg} [{elapsed_precise}, eta {eta}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let redraw = (sim.total_steps() / 200).max(1);
+    sim.run(|s| {
+        if s.steps_done() % redraw == 0 || s.is_finished() {
+            let wall = start.elapsed().as_secs_f64().max(1e-9);
+            bar.set_position(s.steps_done());
+            bar.set_message(format!(
+                "{:.3} s, {:.2}× real time, {} in flight",
+                s.time(),
+                s.time() / wall,
+                s.swarm().alive()
+            ));
+        }
+    });
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+
+    let files = spraysim::output::write_outputs(&sim, scenario, &dir)
+        .with_context(|| format!("writing outputs to {}", dir.display()))?;
+    if !quiet {
+        print_summary(&sim.metrics(), wall)?;
+        say!("wrote {} files to {}", files.len(), dir.display());
+    }
+    Ok(())
+}
+
+fn print_summary(m: &Metrics, wall: f64) -> Result<()> {
+    let pct = |a: f64, b: f64| if b > 0.0 { 100.0 * a / b } else { 0.0 };
+    let e = m.emitted;
+    say!("simulated {:.3} s in {:.2} s ({:.2}× real time)", m.time, wall, m.time / wall.max(1e-9));
+    say!("{:<22}{:>12}{:>16}{:>9}", "fate", "particles", "volume [m³]", "share");
+    let f = &m.fates;
+    for (name, a) in [
+        ("emitted", e),
+        ("stuck on targets", f.stuck_on_targets),
+        ("stuck on obstacles", f.stuck_on_obstacles),
+        ("left the domain", f.left_domain),
+        ("expired", f.expired),
+        ("in flight", f.in_flight),
+    ] {
+        say!("{name:<22}{:>12}{:>16.6e}{:>8.2}%", a.count, a.volume, pct(a.volume, e.volume));
+    }
+    let show = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2} %", 100.0 * v));
+    say!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
+    let fell = m.failures.events.iter().fold(0.0, |acc, e| acc + e.volume);
+    say!("cohesive failures {}   fallen volume {fell:.3e} m³", m.failures.events.len());
+    say!("{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}", "target", "hits", "mean [mm]", "max [mm]", "CV", "covered");
+    for t in &m.targets {
+        let th = &t.thickness;
+        say!(
+            "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%",
+            t.name,
+            t.hits,
+            th.mean * 1e3,
+            th.max * 1e3,
+            th.cv,
+            100.0 * th.covered_fraction
+        );
+    }
+    Ok(())
+}
+
+/// Runs the closed-form checks and writes their report.
+fn validate(output: &Path, size: f64, threads: usize) -> Result<()> {
+    if !(size.is_finite() && (0.01..=1000.0).contains(&size)) {
+        anyhow::bail!("--size must be between 0.01 and 1000, got {size}");
+    }
+    writable(output)?;
+    let start = Instant::now();
+    let report = spraysim_validate::report(spraysim_validate::Size::times(size), threads, |name| {
+        eprintln!("[{:>6.1} s] {name}", start.elapsed().as_secs_f64());
+    });
+    let files = report
+        .files()
+        .and_then(|f| spraysim::output::write_all(output, &f))
+        .with_context(|| format!("writing the report to {}", output.display()))?;
+    for v in &report.verdicts {
+        say!("{:<6} {}: {} ({})", if v.passed { "pass" } else { "FAIL" }, v.name, v.statistic, v.criterion);
+    }
+    say!("wrote {} files to {} in {:.1} s", files.len(), output.display(), start.elapsed().as_secs_f64());
+    let failed = report.verdicts.iter().filter(|v| !v.passed).count();
+    if failed > 0 {
+        anyhow::bail!("{failed} of {} checks failed", report.verdicts.len());
+    }
+    Ok(())
+}
+
+/// Fits the emitter to a measured profile and writes the results.
+fn calibrate(
+    path: &Path,
+    profile: &Path,
+    settings: &CalibrationSettings,
+    output: &Path,
+    quiet: bool,
+) -> Result<()> {
+    use spraysim_calibrate::MeasuredProfile;
+    let scenario = Scenario::from_path(path)?;
+    let measured = MeasuredProfile::from_path(profile)?;
+    writable(output)?;
+    // Nelder–Mead's evaluation count is not known in advance: a spinner with the best error.
+    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new_spinner() };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    let names: Vec<&str> = settings.fit.iter().map(|p| p.name()).collect();
+    let cal = spraysim_calibrate::calibrate(&scenario, &measured, settings, |e| {
+        let values: Vec<String> = names.iter().zip(&e.values).map(|(n, v)| format!("{n} = {v:.4}")).collect();
+        bar.set_message(format!(
+            "evaluation {}: {} → RMS {:.2} % (best {:.2} %)",
+            e.index,
+            values.join(", "),
+            100.0 * e.rms,
+            100.0 * e.best_rms
+        ));
+        bar.tick();
+    })?;
+    bar.finish_and_clear();
+    let files = spraysim_calibrate::files::files(&cal, &measured)
+        .and_then(|f| spraysim::output::write_all(output, &f))
+        .with_context(|| format!("writing outputs to {}", output.display()))?;
+    if !quiet {
+        say!("{} evaluations, {} iterations ({})", cal.evaluations, cal.iterations, cal.termination);
+        say!("{:<12}{:>14}{:>14}  unit", "parameter", "start", "fitted");
+        for ((p, a), b) in cal.params.iter().zip(&cal.initial).zip(&cal.fitted) {
+            say!("{:<12}{a:>14.6}{b:>14.6}  {}", p.name(), p.unit());
+        }
+        say!("{:<22}{:>10}{:>10}", "error, % of peak", "start", "fitted");
+        let (i, f) = (&cal.initial_errors, &cal.errors);
+        for (name, a, b) in [
+            ("max absolute", i.max_abs, f.max_abs),
+            ("RMS", i.rms, f.rms),
+            ("mean absolute", i.mean_abs, f.mean_abs),
+        ] {
+            say!("{name:<22}{:>10.2}{:>10.2}", 100.0 * a, 100.0 * b);
+        }
+        if settings.shape_only {
+            say!("simulated profile scaled by {:.4} (shape only)", cal.scale);
+        }
+        say!("wrote {} files to {}", files.len(), output.display());
+    }
+    Ok(())
+}

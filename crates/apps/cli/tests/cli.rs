@@ -1,0 +1,224 @@
+//! The `spraysim` command line: runs, refusals and presets.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn spraysim(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spraysim"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("spraysim starts")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const SMALL: &str = r#"
+[simulation]
+duration = 0.05
+[[target]]
+name = "wall"
+center = [0.0, 0.0, 1.0]
+normal = [-1.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+resolution = [32, 32]
+"#;
+
+#[test]
+fn run_writes_every_output() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    let o = spraysim(&["run", "s.toml", "-o", "res", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut names: Vec<String> = std::fs::read_dir(tmp.path().join("res"))
+        .expect("output dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "metrics.json",
+            "scenario.resolved.toml",
+            "wall_failure.png",
+            "wall_hits.npy",
+            "wall_hits.png",
+            "wall_thickness.npy",
+            "wall_thickness.png"
+        ]
+    );
+    let metrics: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("res/metrics.json")).expect("metrics"))
+            .expect("json");
+    assert_eq!(metrics["emitted"]["count"], 500);
+    // The .npy is float32, rows × cols.
+    let npy = std::fs::read(tmp.path().join("res/wall_thickness.npy")).expect("npy");
+    let header = String::from_utf8_lossy(&npy[..128]);
+    assert!(header.contains("'descr': '<f4'") && header.contains("'shape': (32, 32)"), "{header}");
+}
+
+#[test]
+fn bad_scenarios_are_refused_and_write_nothing() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (i, (bad, expect)) in [
+        (SMALL.replace("duration = 0.05", "duration = 0.05\ndt = -1.0"), "`simulation.dt`"),
+        (SMALL.replace("resolution = [32, 32]", "resolution = [32, 0]"), "`target[0].resolution`"),
+        (SMALL.replace("up = [0.0, 0.0, 1.0]", "up = [1.0, 0.0, 0.0]"), "`target[0].up`"),
+        (SMALL.replace("[simulation]", "[simulation]\nspeed = 3.0"), "`simulation.speed` is not a key"),
+        (format!("{SMALL}\n[process]\npreset = \"gunite\"\n"), "`process.preset` must be one of"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let file = format!("bad{i}.toml");
+        std::fs::write(tmp.path().join(&file), bad).expect("write");
+        for cmd in ["run", "check"] {
+            let o = spraysim(&[cmd, &file, "-o", "never"][..if cmd == "run" { 4 } else { 2 }], tmp.path());
+            assert!(!o.status.success(), "{cmd} accepted {file}");
+            let err = stderr(&o);
+            assert!(err.contains(&file) && err.contains(expect), "{cmd} {file}: {err}");
+            assert!(!tmp.path().join("never").exists(), "{cmd} {file} left an output directory");
+        }
+    }
+}
+
+#[test]
+fn an_unwritable_output_directory_is_refused_before_the_run() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    std::fs::write(tmp.path().join("plain-file"), "").expect("write");
+    let o = spraysim(&["run", "s.toml", "-o", "plain-file/out"], tmp.path());
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("not writable"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(tmp.path()).expect("dir").count(), 2, "something was written");
+}
+
+#[test]
+fn presets_paste_into_scenarios() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let o = spraysim(&["presets"], tmp.path());
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let chunks: Vec<&str> = text.split("# ---- ").skip(1).collect();
+    assert_eq!(chunks.len(), 3);
+    for chunk in chunks {
+        let (header, body) = chunk.split_once('\n').expect("header line");
+        let name = header.trim_end_matches(" ----");
+        let file = format!("{name}.toml");
+        std::fs::write(tmp.path().join(&file), format!("{SMALL}\n{body}")).expect("write");
+        let check = spraysim(&["check", &file, "--resolved"], tmp.path());
+        assert!(check.status.success(), "{name}: {}", stderr(&check));
+        assert!(String::from_utf8_lossy(&check.stdout).contains(&format!("preset = \"{name}\"")));
+    }
+}
+
+#[test]
+fn the_default_scene_runs_without_a_scenario() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let o = spraysim(&["run", "-o", "d"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("rebound ratio") && out.contains("wall") && out.contains("floor"), "{out}");
+    assert!(tmp.path().join("d/wall_thickness.png").exists());
+    assert!(tmp.path().join("d/floor_thickness.npy").exists());
+}
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../examples").join(name).display().to_string()
+}
+
+#[test]
+fn calibrate_writes_a_fitted_scenario_that_runs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let (scenario, profile) = (example("calibrate.toml"), example("profile.csv"));
+    // A few iterations only: the fit itself is tested in the library.
+    let o = spraysim(&["calibrate", &scenario, &profile, "--max-iterations", "3", "-o", "cal"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    for words in ["max absolute", "RMS", "mean absolute", "mu", "sigma"] {
+        assert!(out.contains(words), "summary lacks `{words}`: {out}");
+    }
+    for name in ["calibrated.toml", "calibration.json", "profile.csv", "profile.png"] {
+        assert!(tmp.path().join("cal").join(name).is_file(), "{name} missing");
+    }
+    let o = spraysim(&["check", "cal/calibrated.toml"], tmp.path());
+    assert!(o.status.success(), "the fitted scenario is refused: {}", stderr(&o));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("cal/calibration.json")).expect("json"))
+            .expect("parses");
+    assert_eq!(json["params"], serde_json::json!(["mu", "sigma"]));
+    let rms = json["errors"]["rms"].as_f64().expect("rms");
+    assert!(rms < json["initial_errors"]["rms"].as_f64().expect("initial rms"), "no progress: {json}");
+}
+
+#[test]
+fn calibrate_refuses_bad_input_and_writes_nothing() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("inches.csv"), "radius [in],thickness [mm]\n0,1\n1,1\n2,1\n")
+        .expect("write");
+    std::fs::write(
+        tmp.path().join("polar.toml"),
+        format!("{SMALL}\n[emitter]\ndirection = \"uniform_polar\"\n"),
+    )
+    .expect("write");
+    let (scenario, profile) = (example("calibrate.toml"), example("profile.csv"));
+    for (args, expect) in [
+        (vec!["calibrate", &scenario, "inches.csv"], "inches.csv:1"),
+        (vec!["calibrate", &scenario, &profile, "--fit", "mu,tau"], "invalid value 'tau' for '--fit <FIT>'"),
+        (vec!["calibrate", &scenario, &profile, "--shape", "diagonal"], "invalid value 'diagonal'"),
+        (vec!["calibrate", &scenario, &profile, "--target", "ceiling"], "no target named `ceiling`"),
+        (vec!["calibrate", "polar.toml", &profile], "truncated_normal"),
+        (vec!["calibrate", &scenario, "missing.csv"], "missing.csv"),
+        (vec!["calibrate", &scenario, &profile, "--center", "0.1"], "two numbers"),
+        (
+            vec!["calibrate", &scenario, &profile, "--center=0.3,-0.4", "--shape", "up"],
+            "no cell of the target",
+        ),
+    ] {
+        let mut args = args.clone();
+        args.extend(["-o", "never"]);
+        let o = spraysim(&args, tmp.path());
+        assert!(!o.status.success(), "{args:?} accepted");
+        assert!(stderr(&o).contains(expect), "{args:?}: {}", stderr(&o));
+        assert!(!tmp.path().join("never").exists(), "{args:?} left an output directory");
+    }
+}
+
+#[test]
+fn a_reader_that_goes_away_early_is_not_an_error() {
+    // `spraysim presets | head -1`: the pipe closes before everything is written.
+    let (reader, writer) = std::io::pipe().expect("pipe");
+    drop(reader);
+    let o = Command::new(env!("CARGO_BIN_EXE_spraysim"))
+        .arg("presets")
+        .stdout(writer)
+        .output()
+        .expect("spraysim starts");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "", "no panic, no error message");
+}
+
+#[test]
+fn an_error_quotes_its_cause_once() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let o = spraysim(&["check", "missing.toml"], tmp.path());
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(err.starts_with("error: missing.toml: cannot read the scenario"), "{err}");
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+}
+
+#[test]
+fn bench_refuses_a_bad_reference_scene_without_a_panic() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (flag, value) in [("--duration", "-1"), ("--spawn-rate", "0"), ("--spawn-rate", "nan")] {
+        let o = spraysim(&["bench", &format!("{flag}={value}")], tmp.path());
+        let err = stderr(&o);
+        assert!(!o.status.success());
+        assert!(err.starts_with(&format!("error: {flag} must be a positive number")), "{err}");
+        assert!(o.stdout.is_empty(), "nothing printed before the refusal");
+    }
+}

@@ -1,0 +1,272 @@
+//! Exact impacts of a ballistic arc `x(τ) = x₀ + v₀ τ + ½ g τ²` with the primitives: the
+//! earliest root in `(0, T]` of the polynomial (degree ≤ 4) that says where the arc meets each
+//! surface, with the same conventions as the segment tests.
+
+use super::Hit;
+use glam::DVec3;
+
+/// First `τ ≥ 0` at which `h(τ) = a τ² + b τ + c` becomes positive (0 if it already is or is
+/// rising from 0; infinite if it never does).
+fn first_rise(a: f64, b: f64, c: f64) -> f64 {
+    if c > 0.0 || (c == 0.0 && (b > 0.0 || (b == 0.0 && a > 0.0))) {
+        return 0.0;
+    }
+    if a == 0.0 {
+        return if b > 0.0 { -c / b } else { f64::INFINITY };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 || (a < 0.0 && b <= 0.0) {
+        // Never reaches 0, or (concave) falling from its start.
+        return f64::INFINITY;
+    }
+    // Both roots without cancellation; with c ≤ 0, a convex h has one positive root and a
+    // rising concave one two, of which the first counts.
+    let q = -0.5 * (b + disc.sqrt().copysign(b));
+    let (r1, r2) = (q / a, if q != 0.0 { c / q } else { 0.0 });
+    if a > 0.0 { r1.max(r2) } else { r1.min(r2) }
+}
+
+/// A flight under constant acceleration over `[0, duration]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Arc {
+    /// Start position, m.
+    pub x0: DVec3,
+    /// Start velocity, m/s.
+    pub v0: DVec3,
+    /// Acceleration, m/s².
+    pub g: DVec3,
+    /// Flight time, s.
+    pub duration: f64,
+}
+
+impl Arc {
+    /// Position at time `tau` (s).
+    #[inline]
+    pub fn at(&self, tau: f64) -> DVec3 {
+        self.x0 + self.v0 * tau + 0.5 * self.g * tau * tau
+    }
+
+    /// Velocity at time `tau` (s).
+    #[inline]
+    pub fn velocity(&self, tau: f64) -> DVec3 {
+        self.v0 + self.g * tau
+    }
+
+    /// First time (s) at which the arc, started inside `b`, leaves it (0 if it starts outside;
+    /// infinite if it never leaves). The duration plays no part.
+    pub fn exit_time(&self, b: &super::Aabb) -> f64 {
+        let mut first = f64::INFINITY;
+        for a in 0..3 {
+            let (x, v, half_g) = (self.x0[a], self.v0[a], 0.5 * self.g[a]);
+            // Past the upper bound: h = x(τ) − max > 0; past the lower: h = min − x(τ) > 0.
+            first = first.min(first_rise(half_g, v, x - b.max[a]));
+            first = first.min(first_rise(-half_g, -v, b.min[a] - x));
+        }
+        first
+    }
+
+    /// Bounding box of the arc: endpoints and, per axis, the apex if it falls inside.
+    pub fn aabb(&self) -> super::Aabb {
+        let end = self.at(self.duration);
+        let mut b = super::Aabb::from_points(self.x0, end);
+        for a in 0..3 {
+            if self.g[a] != 0.0 {
+                let apex = -self.v0[a] / self.g[a];
+                if apex > 0.0 && apex < self.duration {
+                    let p = self.at(apex)[a];
+                    b.min[a] = b.min[a].min(p);
+                    b.max[a] = b.max[a].max(p);
+                }
+            }
+        }
+        b
+    }
+
+    /// `(q(τ) − origin)·dir` as a quadratic `[c₀, c₁, c₂]` in τ.
+    #[inline]
+    pub(crate) fn along(&self, origin: DVec3, dir: DVec3) -> [f64; 3] {
+        [(self.x0 - origin).dot(dir), self.v0.dot(dir), 0.5 * self.g.dot(dir)]
+    }
+
+    /// Component of `q(τ) − origin` perpendicular to unit `axis`, as vector coefficients.
+    #[inline]
+    pub(crate) fn perpendicular(&self, origin: DVec3, axis: DVec3) -> [DVec3; 3] {
+        let rej = |v: DVec3| v - axis * v.dot(axis);
+        [rej(self.x0 - origin), rej(self.v0), rej(0.5 * self.g)]
+    }
+}
+
+/// `|c₀ + c₁ τ + c₂ τ²|² − r²` as a quartic.
+pub(crate) fn squared_norm(c: [DVec3; 3], r: f64) -> [f64; 5] {
+    [
+        c[0].dot(c[0]) - r * r,
+        2.0 * c[0].dot(c[1]),
+        c[1].dot(c[1]) + 2.0 * c[0].dot(c[2]),
+        2.0 * c[1].dot(c[2]),
+        c[2].dot(c[2]),
+    ]
+}
+
+/// The polynomial `c` (low to high) at `t`.
+#[inline]
+pub(crate) fn eval(c: &[f64], t: f64) -> f64 {
+    c.iter().rev().fold(0.0, |acc, &ci| acc * t + ci)
+}
+
+/// A few numbers on the stack (polynomial coefficients, roots): the root finder runs once per
+/// candidate surface per step, where heap vectors would cost more than the arithmetic.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Small {
+    items: [f64; 8],
+    len: usize,
+}
+
+impl Small {
+    fn push(&mut self, x: f64) {
+        // Degree ≤ 4 keeps every list within 6 (roots and the knots between them).
+        debug_assert!(self.len < self.items.len());
+        if self.len < self.items.len() {
+            self.items[self.len] = x;
+            self.len += 1;
+        }
+    }
+
+    /// Drops consecutive repeats.
+    fn dedup(&mut self) {
+        let mut n = 0;
+        for i in 0..self.len {
+            if n == 0 || self.items[i] != self.items[n - 1] {
+                self.items[n] = self.items[i];
+                n += 1;
+            }
+        }
+        self.len = n;
+    }
+}
+
+impl std::ops::Deref for Small {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.items[..self.len]
+    }
+}
+
+/// The derivative of the polynomial `c` (low to high).
+pub(crate) fn derivative(c: &[f64]) -> Small {
+    let mut d = Small::default();
+    c.iter().enumerate().skip(1).for_each(|(i, &ci)| d.push(i as f64 * ci));
+    d
+}
+
+/// Real roots of the polynomial `c` (low to high, degree ≤ 4) in `[lo, hi]`, ascending. Roots
+/// of the derivative split the interval into monotone pieces, each bisected to full
+/// precision, so no root is missed whatever the step; a root where the polynomial only
+/// touches zero counts.
+pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
+    let deg = c.iter().rposition(|&x| x != 0.0).unwrap_or(0);
+    let c = &c[..=deg];
+    let mut out = Small::default();
+    if deg == 0 {
+        return out;
+    }
+    if deg == 1 {
+        let r = -c[0] / c[1];
+        if (lo..=hi).contains(&r) {
+            out.push(r);
+        }
+        return out;
+    }
+    let mut knots = Small::default();
+    knots.push(lo);
+    roots(&derivative(c), lo, hi).iter().filter(|&&r| r > lo && r < hi).for_each(|&r| knots.push(r));
+    knots.push(hi);
+    for w in knots.windows(2) {
+        let (mut a, mut b) = (w[0], w[1]);
+        let (fa, fb) = (eval(c, a), eval(c, b));
+        if fa == 0.0 {
+            out.push(a);
+            continue;
+        }
+        if fa.signum() == fb.signum() {
+            continue;
+        }
+        if fb == 0.0 {
+            continue; // the next piece starts at b and records it
+        }
+        let up = fb > 0.0;
+        loop {
+            let m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+            if (eval(c, m) > 0.0) == up {
+                b = m;
+            } else {
+                a = m;
+            }
+        }
+        out.push(b);
+    }
+    if eval(c, hi) == 0.0 && out.last() != Some(&hi) {
+        out.push(hi);
+    }
+    out.dedup();
+    out
+}
+
+/// A hit at time `tau` (s) of the arc, with `Hit::t` the fraction of its duration.
+pub(crate) fn hit_at(arc: &Arc, tau: f64, normal: DVec3) -> Hit {
+    Hit { t: (tau / arc.duration).clamp(0.0, 1.0), point: arc.at(tau), normal }
+}
+
+/// First root of `f` in `(0, T]` at which `f` goes from positive to non-positive and `accept`
+/// holds at the hit point.
+pub(crate) fn first_entry(arc: &Arc, f: &[f64], accept: impl Fn(f64) -> bool) -> Option<f64> {
+    let df = derivative(f);
+    roots(f, 0.0, arc.duration).iter().copied().find(|&tau| tau > 0.0 && eval(&df, tau) <= 0.0 && accept(tau))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roots_of_a_quartic_are_found_in_order_and_to_full_precision() {
+        // (t − 0.1)(t − 0.2)(t − 0.7)(t + 3)
+        let r = [0.1, 0.2, 0.7, -3.0];
+        let mut c = [1.0, 0.0, 0.0, 0.0, 0.0];
+        for root in r {
+            let mut next = [0.0; 5];
+            for k in 0..5 {
+                next[k] = -root * c[k] + if k > 0 { c[k - 1] } else { 0.0 };
+            }
+            c = next;
+        }
+        let found = roots(&c, 0.0, 1.0);
+        assert_eq!(found.len(), 3, "{found:?}");
+        for (f, want) in found.iter().zip([0.1, 0.2, 0.7]) {
+            assert!((f - want).abs() < 1e-14, "{f} vs {want}");
+        }
+        // A double root (touching zero) counts once.
+        let touch = roots(&[0.25, -1.0, 1.0], 0.0, 1.0);
+        assert_eq!(touch.len(), 1);
+        assert!((touch[0] - 0.5).abs() < 1e-7);
+    }
+
+    use crate::collision::{Plane, Primitive, Shape};
+
+    #[test]
+    fn a_dropped_particle_meets_the_floor_at_the_closed_form_time() {
+        let arc = Arc {
+            x0: DVec3::new(0.0, 0.0, 1.0),
+            v0: DVec3::new(2.0, 0.0, 0.0),
+            g: DVec3::new(0.0, 0.0, -9.81),
+            duration: 1.0,
+        };
+        let floor = Shape::Plane(Plane { point: DVec3::ZERO, normal: DVec3::Z });
+        let h = floor.intersect_arc(&arc).expect("lands");
+        let t = (2.0 / 9.81_f64).sqrt();
+        assert!((h.t - t).abs() < 1e-15 && h.normal == DVec3::Z);
+        assert!((h.point.x - 2.0 * t).abs() < 1e-14 && h.point.z.abs() < 1e-14);
+    }
+}

@@ -1,0 +1,207 @@
+//! The set of surfaces a particle can strike, and the query for the earliest one.
+
+use super::broad_phase::Grid;
+use super::{Aabb, Arc, Hit, Primitive, Shape};
+use glam::DVec3;
+
+/// Index of a surface in the [`Scene`], in the order the surfaces were given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct SurfaceId(pub u32);
+
+impl SurfaceId {
+    /// The index as a `usize`.
+    #[inline]
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// What a surface belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceKind {
+    /// Target number `i` (its deposit surface).
+    Target(usize),
+    /// Obstacle number `i` (no deposit).
+    Obstacle(usize),
+}
+
+/// One collidable surface: its shape, its owner and the impact model that applies on it.
+#[derive(Clone, Debug)]
+pub struct SurfaceRef {
+    /// Geometry.
+    pub shape: Shape,
+    /// Target or obstacle it belongs to.
+    pub kind: SurfaceKind,
+    /// Index into the simulation's impact models.
+    pub impact: usize,
+    /// How far in front of a face (along its normal) a deposited layer may reach, m; the face's
+    /// bounding box is grown by it so that the broad phase sees the layer.
+    pub layer: f64,
+}
+
+impl SurfaceRef {
+    /// Bounding box including the layer allowance (`None` for unbounded planes): flat
+    /// surfaces grow along their normal, others on every side.
+    fn bounds(&self) -> Option<Aabb> {
+        let b = self.shape.aabb()?;
+        if self.layer <= 0.0 {
+            return Some(b);
+        }
+        let along = |normal: DVec3| {
+            let reach = normal * self.layer;
+            Aabb { min: b.min.min(b.min + reach), max: b.max.max(b.max + reach) }
+        };
+        Some(match &self.shape {
+            Shape::Face(f) => along(f.normal),
+            Shape::Triangle(t) => along(t.normal),
+            _ => b.inflate(self.layer),
+        })
+    }
+}
+
+/// All surfaces of a scenario, indexed for segment queries.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    surfaces: Vec<SurfaceRef>,
+    /// Surfaces without a bounding box (infinite planes), tested on every query.
+    unbounded: Vec<u32>,
+    /// Bounding box per surface (empty for unbounded ones), for a cheap reject before the
+    /// exact test.
+    boxes: Vec<Aabb>,
+    grid: Grid,
+    bounds: Aabb,
+}
+
+impl Scene {
+    /// Indexes `surfaces` for queries inside `bounds` (the simulation domain; nothing outside
+    /// it is ever queried).
+    pub fn new(surfaces: Vec<SurfaceRef>, bounds: Aabb) -> Scene {
+        let boxes: Vec<Option<Aabb>> = surfaces.iter().map(SurfaceRef::bounds).collect();
+        let unbounded = (0..surfaces.len() as u32).filter(|&i| boxes[i as usize].is_none()).collect();
+        let grid = Grid::new(&boxes, bounds);
+        let everywhere = Aabb { min: DVec3::NEG_INFINITY, max: DVec3::INFINITY };
+        // A small margin keeps the reject conservative against rounding.
+        let boxes = boxes.iter().map(|b| b.map_or(everywhere, |b| b.inflate(1e-9))).collect();
+        Scene { surfaces, unbounded, boxes, grid, bounds }
+    }
+
+    /// Sets how far a layer may reach in front of each surface of `ids` (m) and re-indexes
+    /// the scene once.
+    pub fn set_layer_allowances(&mut self, ids: &[(SurfaceId, f64)]) {
+        let mut surfaces = std::mem::take(&mut self.surfaces);
+        for &(id, reach) in ids {
+            surfaces[id.index()].layer = reach;
+        }
+        *self = Scene::new(surfaces, self.bounds);
+    }
+
+    /// The surface with index `id`.
+    #[inline]
+    pub fn surface(&self, id: SurfaceId) -> &SurfaceRef {
+        &self.surfaces[id.index()]
+    }
+
+    /// The surfaces, in the order they were given.
+    pub fn surfaces(&self) -> &[SurfaceRef] {
+        &self.surfaces
+    }
+
+    /// True if the segment `p0 → p1` certainly hits nothing: the cheap test that lets a
+    /// particle in free flight skip the search for the earliest hit.
+    #[inline]
+    pub fn is_clear(&self, p0: DVec3, p1: DVec3) -> bool {
+        self.unbounded.is_empty() && self.grid.is_clear(p0, p1)
+    }
+
+    /// Earliest hit of the segment `p0 → p1` over all surfaces: the surface's index and the hit.
+    /// Ties go to the surface given first, so the answer never depends on traversal order.
+    #[inline]
+    pub fn first_hit(&self, p0: DVec3, p1: DVec3) -> Option<(SurfaceId, Hit)> {
+        let mut best: Option<(usize, Hit)> = None;
+        let seg = Aabb::from_points(p0, p1);
+        let test = |i: u32, best: &mut Option<(usize, Hit)>| {
+            let i = i as usize;
+            if !self.boxes[i].overlaps(&seg) {
+                return;
+            }
+            if let Some(hit) = self.surfaces[i].shape.intersect(p0, p1)
+                && best.is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < j))
+            {
+                *best = Some((i, hit));
+            }
+        };
+        for &i in &self.unbounded {
+            test(i, &mut best);
+        }
+        self.grid.walk(p0, p1, |items| {
+            for &i in items {
+                test(i, &mut best);
+            }
+            best.map_or(f64::INFINITY, |(_, h)| h.t)
+        });
+        best.map(|(i, h)| (SurfaceId(i as u32), h))
+    }
+
+    /// How long (s, at most `horizon`) the flight from `x` with velocity `v` under
+    /// acceleration `g` certainly hits nothing: 0 near any surface or when unbounded planes
+    /// exist (see `Grid::free_flight`).
+    pub fn free_flight(&self, x: DVec3, v: DVec3, g: DVec3, horizon: f64) -> f64 {
+        if self.unbounded.is_empty() { self.grid.free_flight(x, v, g, horizon) } else { 0.0 }
+    }
+
+    /// True if the arc certainly hits nothing (it stays inside one empty neighbourhood).
+    #[inline]
+    pub fn arc_is_clear(&self, arc: &Arc) -> bool {
+        self.unbounded.is_empty() && self.grid.box_is_clear(&arc.aabb())
+    }
+
+    /// Earliest exact hit of a ballistic arc over all surfaces: the surface's index and the hit
+    /// (`Hit::t` is the fraction of the arc's duration). Ties go to the surface given first.
+    pub fn first_hit_arc(&self, arc: &Arc) -> Option<(SurfaceId, Hit)> {
+        let bounds = arc.aabb();
+        let mut best: Option<(usize, Hit)> = None;
+        let mut test = |i: u32| {
+            let i = i as usize;
+            if !self.boxes[i].overlaps(&bounds) {
+                return;
+            }
+            if let Some(hit) = self.surfaces[i].shape.intersect_arc(arc)
+                && best.is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < j))
+            {
+                best = Some((i, hit));
+            }
+        };
+        self.unbounded.iter().for_each(|&i| test(i));
+        // A surface spanning several of the cells is solved once (the answer does not depend on
+        // the order of the tests, only on which surfaces are tested).
+        let mut seen = [u32::MAX; 16];
+        let mut n = 0;
+        self.grid.for_each_in_box(&bounds, |items| {
+            for &i in items {
+                if seen[..n].contains(&i) {
+                    continue;
+                }
+                if n < seen.len() {
+                    seen[n] = i;
+                    n += 1;
+                }
+                test(i);
+            }
+        });
+        best.map(|(i, h)| (SurfaceId(i as u32), h))
+    }
+
+    /// Earliest hit by testing every surface, without the grid: the reference the indexed
+    /// query must agree with.
+    pub fn first_hit_linear(&self, p0: DVec3, p1: DVec3) -> Option<(SurfaceId, Hit)> {
+        let mut best: Option<(usize, Hit)> = None;
+        for (i, s) in self.surfaces.iter().enumerate() {
+            if let Some(hit) = s.shape.intersect(p0, p1)
+                && best.is_none_or(|(_, b)| hit.t < b.t)
+            {
+                best = Some((i, hit));
+            }
+        }
+        best.map(|(i, h)| (SurfaceId(i as u32), h))
+    }
+}

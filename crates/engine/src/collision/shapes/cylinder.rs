@@ -1,0 +1,123 @@
+//! Solid capped cylinders: rebar, pipes.
+
+use super::{Primitive, entry_root};
+use crate::collision::arc::{Arc, derivative, eval, first_entry, hit_at, roots, squared_norm};
+use crate::collision::{Aabb, Hit};
+use glam::DVec3;
+
+/// Solid cylinder with flat caps, from `a` to `b` (a rebar, a pipe).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cylinder {
+    /// Centre of the first cap, m.
+    pub a: DVec3,
+    /// Centre of the second cap, m.
+    pub b: DVec3,
+    /// Radius, m.
+    pub radius: f64,
+}
+
+impl Primitive for Cylinder {
+    /// Earliest hit of the segment `p0 → p1` with the mantle or either cap; `t = 0` if `p0` is
+    /// inside.
+    #[inline]
+    fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> {
+        let axis = self.b - self.a;
+        let len = axis.length();
+        let u = axis / len;
+        let m = p0 - self.a;
+        let d = p1 - p0;
+        let ms = m.dot(u);
+        let ds = d.dot(u);
+        let m_perp = m - u * ms;
+        let d_perp = d - u * ds;
+        let r2 = self.radius * self.radius;
+        let c = m_perp.length_squared() - r2;
+        if c < 0.0 && ms > 0.0 && ms < len {
+            // Inside: push out through the nearest of mantle and caps.
+            let to_mantle = self.radius - m_perp.length();
+            let normal = if to_mantle <= ms.min(len - ms) {
+                m_perp.normalize_or(u.any_orthonormal_vector())
+            } else if ms < len - ms {
+                -u
+            } else {
+                u
+            };
+            return Some(Hit { t: 0.0, point: p0, normal });
+        }
+        let mut best: Option<Hit> = None;
+        if c >= 0.0
+            && let Some(t) = entry_root(d_perp.length_squared(), m_perp.dot(d_perp), c)
+        {
+            let s = ms + ds * t;
+            if (0.0..=len).contains(&s) {
+                let radial = m_perp + d_perp * t;
+                best = Some(Hit { t, point: p0 + d * t, normal: radial.normalize_or(u) });
+            }
+        }
+        // Caps: entered from outside along the axis.
+        for (cap_s, normal) in [(0.0, -u), (len, u)] {
+            let outside = if cap_s == 0.0 { ms < 0.0 } else { ms > len };
+            if !outside || ds == 0.0 {
+                continue;
+            }
+            let t = (cap_s - ms) / ds;
+            if !(0.0..=1.0).contains(&t) || best.is_some_and(|h| h.t <= t) {
+                continue;
+            }
+            let radial = m_perp + d_perp * t;
+            if radial.length_squared() <= r2 {
+                best = Some(Hit { t, point: p0 + d * t, normal });
+            }
+        }
+        best
+    }
+
+    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+        if let Some(h) = super::inside_start(self, arc) {
+            return Some(h);
+        }
+        let axis = self.b - self.a;
+        let len = axis.length();
+        let u = axis / len;
+        let s = arc.along(self.a, u);
+        let perp = arc.perpendicular(self.a, u);
+        let radial2 = |tau: f64| (perp[0] + perp[1] * tau + perp[2] * tau * tau).length_squared();
+        let r2 = self.radius * self.radius;
+        let mut best: Option<Hit> = None;
+        let mantle = squared_norm(perp, self.radius);
+        if let Some(tau) = first_entry(arc, &mantle, |tau| (0.0..=len).contains(&eval(&s, tau))) {
+            let radial = perp[0] + perp[1] * tau + perp[2] * tau * tau;
+            best = Some(hit_at(arc, tau, radial.normalize_or(u)));
+        }
+        let ds = derivative(&s);
+        for (level, normal, entering_up) in [(0.0, -u, true), (len, u, false)] {
+            let shifted = [s[0] - level, s[1], s[2]];
+            for &tau in roots(&shifted, 0.0, arc.duration).iter() {
+                let slope = eval(&ds, tau);
+                let entering = if entering_up { slope > 0.0 } else { slope < 0.0 };
+                if tau > 0.0 && entering && radial2(tau) <= r2 {
+                    if best.is_none_or(|b| hit_at(arc, tau, normal).t < b.t) {
+                        best = Some(hit_at(arc, tau, normal));
+                    }
+                    break;
+                }
+            }
+        }
+        best
+    }
+
+    fn aabb(&self) -> Option<Aabb> {
+        let axis = (self.b - self.a).normalize_or_zero();
+        let e = (DVec3::ONE - axis * axis).max(DVec3::ZERO).map(f64::sqrt) * self.radius;
+        Some(Aabb { min: self.a.min(self.b) - e, max: self.a.max(self.b) + e })
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        let axis = self.b - self.a;
+        let len = axis.length();
+        let u = axis / len;
+        let s = (p - self.a).dot(u);
+        let radial = (p - self.a) - u * s;
+        s > 0.0 && s < len && radial.length_squared() < self.radius * self.radius
+    }
+}

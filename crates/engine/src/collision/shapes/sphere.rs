@@ -1,0 +1,52 @@
+//! Solid spheres.
+
+use super::{Primitive, entry_root};
+use crate::collision::arc::{Arc, first_entry, hit_at, squared_norm};
+use crate::collision::{Aabb, Hit};
+use glam::DVec3;
+
+/// Solid sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// Centre, m.
+    pub center: DVec3,
+    /// Radius, m.
+    pub radius: f64,
+}
+
+impl Primitive for Sphere {
+    /// Earliest hit of the segment `p0 → p1`; `t = 0` if `p0` is inside.
+    #[inline]
+    fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> {
+        let m = p0 - self.center;
+        let c = m.length_squared() - self.radius * self.radius;
+        if c < 0.0 {
+            return Some(Hit { t: 0.0, point: p0, normal: m.normalize_or(DVec3::Z) });
+        }
+        let d = p1 - p0;
+        let t = entry_root(d.length_squared(), m.dot(d), c)?;
+        let point = p0 + d * t;
+        Some(Hit { t, point, normal: (point - self.center).normalize_or(DVec3::Z) })
+    }
+
+    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+        if let Some(h) = super::inside_start(self, arc) {
+            return Some(h);
+        }
+        let f = squared_norm([arc.x0 - self.center, arc.v0, 0.5 * arc.g], self.radius);
+        let tau = first_entry(arc, &f, |_| true)?;
+        let q = arc.at(tau);
+        Some(hit_at(arc, tau, (q - self.center).normalize_or(DVec3::Z)))
+    }
+
+    fn aabb(&self) -> Option<Aabb> {
+        Some(Aabb {
+            min: self.center - DVec3::splat(self.radius),
+            max: self.center + DVec3::splat(self.radius),
+        })
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        (p - self.center).length_squared() < self.radius * self.radius
+    }
+}

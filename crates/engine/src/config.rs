@@ -1,0 +1,231 @@
+//! The resolved parameters of a simulation: plain data, every unit SI and every angle in
+//! radians, with the process behaviour chosen as modules (see [`crate::process`]). A file
+//! format (the scenario crate) or a program builds one; `Simulation::new` takes it.
+
+use crate::collision::{Aabb, Face, Shape};
+use crate::deposit::{RectangleSurface, Surface};
+use crate::emission::{Aperture, Direction, Emitter, NozzlePath};
+use crate::motion::{GRAVITY, Integrator, Motion};
+use crate::process::rebound::PolynomialRebound;
+use crate::process::{ErosionLaw, ImpactModel, LayerStage};
+use crate::world::Role;
+use glam::DVec3;
+use std::sync::Arc;
+
+/// Every parameter of a simulation.
+#[derive(Clone, Debug)]
+pub struct SimulationConfig {
+    /// Time step Δt, s.
+    pub dt: f64,
+    /// Simulated duration, s; the run takes whole steps, the last may end past it.
+    pub duration: f64,
+    /// Seed of every random stream: same configuration and seed, same results.
+    pub seed: u64,
+    /// Most impacts resolved for one particle within one step; past it the particle waits for
+    /// the next step at its last impact point.
+    pub max_impacts_per_step: u32,
+    /// Forces and integrator.
+    pub motion: Motion,
+    /// The sprayed material.
+    pub material: Material,
+    /// The nozzle's emitter.
+    pub emitter: Emitter,
+    /// The nozzle's path (replaceable during a run: `Simulation::set_nozzle_path`).
+    pub nozzle: NozzlePath,
+    /// Add the nozzle's own velocity to the particles it emits.
+    pub add_nozzle_velocity: bool,
+    /// Surfaces that collect deposit, in order.
+    pub targets: Vec<TargetConfig>,
+    /// Surfaces that collect none, in order.
+    pub obstacles: Vec<ObstacleConfig>,
+    /// Particles that leave this box are retired, m.
+    pub domain: Aabb,
+    /// Layer stages (cohesion, drip, …), run in this order at their intervals.
+    pub layer_stages: Vec<ScheduledStage>,
+    /// Wet-film thickness above which a film sags on a vertical surface, m (0: no sag maps).
+    pub sag_threshold: f64,
+    /// Recommended working window of the nozzle, for the path metrics.
+    pub window: PathWindow,
+    /// Keep a sample of the impacts (see [`crate::events::ImpactLog`]): the share kept, 0..1
+    /// (0: none).
+    pub impact_log: f64,
+}
+
+/// The sprayed material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Density, kg/m³.
+    pub density: f64,
+    /// A particle still in flight after this long is retired as expired, s.
+    pub max_lifetime: f64,
+    /// A cell counts as covered when its thickness reaches this, m.
+    pub coverage_threshold: f64,
+}
+
+/// A surface that collects deposit.
+#[derive(Clone, Debug)]
+pub struct TargetConfig {
+    /// Name (unique among targets and obstacles).
+    pub name: String,
+    /// Substrate or collector.
+    pub role: Role,
+    /// Geometry and (empty) deposit.
+    pub surface: Surface,
+    /// What happens on impact.
+    pub impact: ImpactModel,
+    /// Wear by abrasive impacts, if any.
+    pub erosion: Option<ErosionConfig>,
+}
+
+/// Wear of a target by abrasive impacts.
+#[derive(Clone, Debug)]
+pub struct ErosionConfig {
+    /// Volume removed per impact.
+    pub law: Arc<dyn ErosionLaw>,
+    /// Thickness of a coating on the surface at the start, which erosion removes, m.
+    pub coating: f64,
+}
+
+/// A surface that collects no deposit (rebar, formwork, a floor).
+#[derive(Clone, Debug)]
+pub struct ObstacleConfig {
+    /// Name (unique among targets and obstacles).
+    pub name: String,
+    /// Its shapes: one, or a mesh's triangles.
+    pub shapes: Vec<Shape>,
+    /// What happens on impact.
+    pub impact: ImpactModel,
+}
+
+/// A layer stage and how often it runs.
+#[derive(Clone, Debug)]
+pub struct ScheduledStage {
+    /// Time between runs, s (rounded to whole steps, at least one).
+    pub interval: f64,
+    /// The stage.
+    pub stage: Arc<dyn LayerStage>,
+}
+
+/// Recommended working window of the nozzle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathWindow {
+    /// `[min, max]` standoff along the spray axis, m.
+    pub standoff: [f64; 2],
+    /// Largest angle between the spray axis and the surface's normal, degrees.
+    pub max_angle: f64,
+    /// `[min, max]` travel speed, m/s.
+    pub speed: [f64; 2],
+}
+
+/// A configuration the engine cannot run: the field and what is wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("`{field}` {message}")]
+pub struct ConfigError {
+    /// The field, e.g. `dt` or `targets[0].surface`.
+    pub field: String,
+    /// What is wrong with it.
+    pub message: String,
+}
+
+/// Most steps and most particles one run may take: step and particle indices are 32-bit.
+const MAX_STEPS: f64 = 4e9;
+
+impl SimulationConfig {
+    /// Number of whole steps covering the duration (the last may end past it); the tolerance
+    /// absorbs rounding of duration / dt.
+    pub fn total_steps(&self) -> u64 {
+        ((self.duration / self.dt) - 1e-9).ceil().max(1.0) as u64
+    }
+
+    /// Checks what the engine relies on: finite, positive times and rates, a domain with
+    /// volume, unique names. The scenario crate checks far more, with the keys of its files.
+    pub fn check(&self) -> Result<(), ConfigError> {
+        let bad = |field: &str, message: String| Err(ConfigError { field: field.into(), message });
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return bad("dt", format!("must be a positive number of seconds, got {}", self.dt));
+        }
+        if !(self.duration.is_finite() && self.duration > 0.0 && self.duration / self.dt < MAX_STEPS) {
+            return bad("duration", format!("must be positive and under 4·10⁹ steps, got {}", self.duration));
+        }
+        let e = &self.emitter;
+        if !(e.spawn_rate.is_finite() && e.spawn_rate > 0.0 && e.spawn_rate * self.duration < MAX_STEPS) {
+            return bad(
+                "emitter.spawn_rate",
+                format!("must be positive and emit under 4·10⁹ particles, got {}", e.spawn_rate),
+            );
+        }
+        if !(e.speed[0].is_finite()
+            && e.speed[1].is_finite()
+            && 0.0 <= e.speed[0]
+            && e.speed[0] <= e.speed[1])
+        {
+            return bad("emitter.speed", format!("must be [min, max] with 0 ≤ min ≤ max, got {:?}", e.speed));
+        }
+        if !(self.domain.min.is_finite()
+            && self.domain.max.is_finite()
+            && self.domain.min.cmplt(self.domain.max).all())
+        {
+            return bad("domain", "must be a finite box with volume".into());
+        }
+        if self.max_impacts_per_step == 0 {
+            return bad("max_impacts_per_step", "must be at least 1".into());
+        }
+        if self.nozzle.waypoints().is_empty() {
+            return bad("nozzle", "must have at least one waypoint".into());
+        }
+        let mut names: Vec<&str> = self.targets.iter().map(|t| t.name.as_str()).collect();
+        names.extend(self.obstacles.iter().map(|o| o.name.as_str()));
+        names.sort_unstable();
+        if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+            return bad("targets", format!("the name {:?} is used twice", w[0]));
+        }
+        Ok(())
+    }
+
+    /// A small configuration in code, for examples and tests: wet-mix shotcrete (the paper's
+    /// Table 1) from a static nozzle 1 m from a 2 m × 2 m wall, for `duration` seconds.
+    pub fn example_wall(duration: f64) -> SimulationConfig {
+        let impact = ImpactModel {
+            alpha: 1.0,
+            rebound: Arc::new(PolynomialRebound { coefficients: vec![0.10, 0.0, 0.0, 2.4] }),
+            restitution: 0.04,
+            scatter: 5f64.to_radians(),
+            rest_speed: 0.5,
+            rest_max_slope: 90f64.to_radians(),
+            cushion_factor: 1.0,
+            cushion_thickness: 0.0,
+        };
+        let face = Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::NEG_X, DVec3::Z, [2.0, 2.0]);
+        SimulationConfig {
+            dt: 1e-3,
+            duration,
+            seed: 1,
+            max_impacts_per_step: 8,
+            motion: Motion { gravity: GRAVITY, drag: 0.0, integrator: Integrator::Euler },
+            material: Material { density: 2300.0, max_lifetime: 5.0, coverage_threshold: 1e-3 },
+            emitter: Emitter {
+                aperture: Aperture::Circle { r: 0.025 },
+                direction: Direction::TruncatedNormal { mu: 0.255, sigma: 0.102 },
+                cone_half_angle: 7f64.to_radians(),
+                speed: [20.0, 30.0],
+                spawn_rate: 1e4,
+                particle_volume: 1.5e-3 / 1e4,
+            },
+            nozzle: NozzlePath::fixed(DVec3::new(-1.0, 0.0, 1.0), DVec3::X, 0.0),
+            add_nozzle_velocity: false,
+            targets: vec![TargetConfig {
+                name: "wall".into(),
+                role: Role::Substrate,
+                surface: Surface::Rectangle(RectangleSurface::new(face, 256, 256, 0.0)),
+                impact,
+                erosion: None,
+            }],
+            obstacles: Vec::new(),
+            domain: Aabb { min: DVec3::new(-2.0, -2.0, -1.0), max: DVec3::new(1.0, 2.0, 3.0) },
+            layer_stages: Vec::new(),
+            sag_threshold: 0.0,
+            window: PathWindow { standoff: [1.0, 2.0], max_angle: 20.0, speed: [0.0, 1.0] },
+            impact_log: 0.0,
+        }
+    }
+}

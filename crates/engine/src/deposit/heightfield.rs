@@ -1,0 +1,353 @@
+//! A regular grid of deposited thicknesses over a rectangle: splatting, the layer's slope, and
+//! where a path enters the layer.
+
+use crate::collision::Face;
+use glam::DVec3;
+
+/// Side of the blocks whose maximum thickness is kept, cells.
+const BLOCK: usize = 16;
+
+/// Samples of the layer march skipped at once above low blocks. The march steps at most half a
+/// cell along the face, so `2 BLOCK − 1` steps move less than one block: the samples skipped
+/// stay within the 3 × 3 blocks around the first.
+const SKIP_RUN: usize = 2 * BLOCK - 1;
+
+/// Clearance above the blocks' maximum required to skip, m: far above the rounding of the
+/// heights, so that no skipped sample could have tested inside.
+const SKIP_MARGIN: f64 = 1e-9;
+
+use super::LayerContact;
+
+/// A regular grid over a target face recording deposited thickness and impact counts.
+///
+/// Row index grows along the face's `up`, column index along its `right` (`up × normal`, the
+/// viewer's right looking at the face from the spray side). Cell `(row, col)` is stored at
+/// `row * cols + col`; row 0 is the bottom edge.
+#[derive(Clone, Debug)]
+pub struct HeightField {
+    cols: usize,
+    rows: usize,
+    width: f64,
+    height: f64,
+    thickness: Vec<f64>,
+    hits: Vec<u32>,
+    /// Upper bound of the thickness, m (never lowered by removals).
+    max_thickness: f64,
+    /// Upper bound of the thickness per block of `BLOCK × BLOCK` cells, m: bounds the layer
+    /// under a segment without visiting its cells.
+    block_max: Vec<f64>,
+    /// Blocks per row.
+    block_cols: usize,
+    /// Cell offsets `(col, row)` of the deposit footprint.
+    splat: Vec<(isize, isize)>,
+    /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
+    /// layer's slope is measured (finer, the slope would be the deposit's speckle).
+    reach: (usize, usize),
+}
+
+impl HeightField {
+    /// An empty field over a `width × height` (m) face with `cols × rows` cells. Each stuck
+    /// particle's volume is spread evenly over the cells whose centres lie within
+    /// `splat_radius` (m) of the hit cell's centre (just the hit cell when that is 0).
+    pub fn new(width: f64, height: f64, cols: usize, rows: usize, splat_radius: f64) -> Self {
+        let (dx, dy) = (width / cols as f64, height / rows as f64);
+        let reach_x = (splat_radius / dx).floor() as isize;
+        let reach_y = (splat_radius / dy).floor() as isize;
+        let mut splat = Vec::new();
+        for j in -reach_y..=reach_y {
+            for i in -reach_x..=reach_x {
+                let (x, y) = (i as f64 * dx, j as f64 * dy);
+                if x * x + y * y <= splat_radius * splat_radius || (i == 0 && j == 0) {
+                    splat.push((i, j));
+                }
+            }
+        }
+        HeightField {
+            cols,
+            rows,
+            width,
+            height,
+            thickness: vec![0.0; cols * rows],
+            hits: vec![0; cols * rows],
+            max_thickness: 0.0,
+            block_max: vec![0.0; cols.div_ceil(BLOCK) * rows.div_ceil(BLOCK)],
+            block_cols: cols.div_ceil(BLOCK),
+            reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
+            splat,
+        }
+    }
+
+    /// Number of columns.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Cell size `(along the width, along the height)`, m.
+    pub fn cell_size(&self) -> (f64, f64) {
+        (self.width / self.cols as f64, self.height / self.rows as f64)
+    }
+
+    /// Removes up to `volume` (m³) from `cell`; returns the volume removed.
+    pub fn remove(&mut self, cell: u32, volume: f64) -> f64 {
+        let area = self.cell_area();
+        let t = &mut self.thickness[cell as usize];
+        let take = (volume / area).min(*t);
+        *t -= take;
+        take * area
+    }
+
+    /// In-face coordinates `(along right, along up)` of a cell's centre, m from the face's centre.
+    pub fn cell_center(&self, cell: u32) -> (f64, f64) {
+        let (dx, dy) = self.cell_size();
+        let (row, col) = (cell as usize / self.cols, cell as usize % self.cols);
+        ((col as f64 + 0.5) * dx - self.width / 2.0, (row as f64 + 0.5) * dy - self.height / 2.0)
+    }
+
+    /// Area of one cell, m².
+    pub fn cell_area(&self) -> f64 {
+        (self.width / self.cols as f64) * (self.height / self.rows as f64)
+    }
+
+    /// Thickness per cell, m, row-major from the bottom row.
+    pub fn thickness(&self) -> &[f64] {
+        &self.thickness
+    }
+
+    /// Impacts per cell (stuck or rebounded), row-major from the bottom row.
+    pub fn hits(&self) -> &[u32] {
+        &self.hits
+    }
+
+    /// Cell index of in-face coordinates `(u, v)` (m from the face centre along right and up),
+    /// clamped to the grid so that hits on the very edge land in the edge cells.
+    #[inline]
+    pub fn cell_at(&self, u: f64, v: f64) -> u32 {
+        // Clamped to ≥ 0 first, so that truncation is a floor.
+        let col = ((((u / self.width) + 0.5) * self.cols as f64).max(0.0) as usize).min(self.cols - 1);
+        let row = ((((v / self.height) + 0.5) * self.rows as f64).max(0.0) as usize).min(self.rows - 1);
+        (row * self.cols + col) as u32
+    }
+
+    /// Counts one impact in `cell`.
+    pub fn add_hit(&mut self, cell: u32) {
+        let h = &mut self.hits[cell as usize];
+        *h = h.saturating_add(1);
+    }
+
+    /// Deposits `volume` (m³) centred on `cell`. The volume is shared evenly over the splat
+    /// footprint's cells inside the grid, so Σ thickness × cell area grows by exactly `volume`
+    /// (up to rounding), at the edges too.
+    pub fn deposit(&mut self, cell: u32, volume: f64) {
+        let (cols, rows) = (self.cols as isize, self.rows as isize);
+        let (row, col) = (cell as isize / cols, cell as isize % cols);
+        let in_grid =
+            |&&(i, j): &&(isize, isize)| (0..cols).contains(&(col + i)) && (0..rows).contains(&(row + j));
+        let n = self.splat.iter().filter(in_grid).count();
+        let added = volume / (n as f64 * self.cell_area());
+        for &(i, j) in self.splat.iter().filter(in_grid) {
+            let (r, c) = ((row + j) as usize, (col + i) as usize);
+            let t = &mut self.thickness[r * self.cols + c];
+            *t += added;
+            self.max_thickness = self.max_thickness.max(*t);
+            let b = &mut self.block_max[(r / BLOCK) * self.block_cols + c / BLOCK];
+            *b = b.max(*t);
+        }
+    }
+
+    /// An upper bound of every cell's thickness, m.
+    pub fn max_thickness(&self) -> f64 {
+        self.max_thickness
+    }
+
+    /// Thickness gradient `(∂t/∂u, ∂t/∂v)` at a cell, dimensionless: central differences
+    /// across the deposit footprint (one-sided at the edges).
+    pub fn gradient(&self, cell: u32) -> (f64, f64) {
+        let (dx, dy) = self.cell_size();
+        let (row, col) = (cell as usize / self.cols, cell as usize % self.cols);
+        let at = |r: usize, c: usize| self.thickness[r * self.cols + c];
+        let (c0, c1) = (col.saturating_sub(self.reach.0), (col + self.reach.0).min(self.cols - 1));
+        let (r0, r1) = (row.saturating_sub(self.reach.1), (row + self.reach.1).min(self.rows - 1));
+        let gu = if c1 > c0 { (at(row, c1) - at(row, c0)) / ((c1 - c0) as f64 * dx) } else { 0.0 };
+        let gv = if r1 > r0 { (at(r1, col) - at(r0, col)) / ((r1 - r0) as f64 * dy) } else { 0.0 };
+        (gu, gv)
+    }
+
+    /// Largest block maximum over the 3 × 3 blocks around the one under `p`, m.
+    fn block_max_around(&self, face: &Face, p: DVec3) -> f64 {
+        let (u, v) = face.local(p);
+        let cell = self.cell_at(u, v) as usize;
+        let (r, c) = ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK);
+        let block_rows = self.block_max.len() / self.block_cols;
+        let mut top = 0.0_f64;
+        for rr in r.saturating_sub(1)..=(r + 1).min(block_rows - 1) {
+            for cc in c.saturating_sub(1)..=(c + 1).min(self.block_cols - 1) {
+                top = top.max(self.block_max[rr * self.block_cols + cc]);
+            }
+        }
+        top
+    }
+
+    /// Largest block maximum over the blocks that the segment's footprint on `face` touches, m.
+    fn block_max_under(&self, face: &Face, p0: DVec3, p1: DVec3) -> f64 {
+        let block = |p: DVec3| {
+            let (u, v) = face.local(p);
+            let cell = self.cell_at(u, v) as usize;
+            ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK)
+        };
+        let ((r0, c0), (r1, c1)) = (block(p0), block(p1));
+        let mut top = 0.0_f64;
+        for r in r0.min(r1)..=r0.max(r1) {
+            for c in c0.min(c1)..=c0.max(c1) {
+                top = top.max(self.block_max[r * self.block_cols + c]);
+            }
+        }
+        top
+    }
+
+    /// Where the segment `p0 → p1` first enters the layer on the front of `face` (the face this
+    /// field lies on). The layer is
+    /// the face raised by each cell's thickness; a segment that starts inside it enters only
+    /// after leaving it. `None` if it does not enter before reaching the bare face.
+    #[inline]
+    pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
+        let h0 = (p0 - face.center).dot(face.normal);
+        let h1 = (p1 - face.center).dot(face.normal);
+        // Most paths pass well above the thickest cell or behind the face: that answer is
+        // inlined, the search is not.
+        if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) > self.max_thickness {
+            return None;
+        }
+        self.layer_contact_near(face, p0, p1, h0, h1)
+    }
+
+    /// [`HeightField::layer_contact`] for a path that reaches below the thickest cell, with
+    /// `h0` and `h1` its heights above the face at its ends, m.
+    #[inline(never)]
+    fn layer_contact_near(
+        &self,
+        face: &Face,
+        p0: DVec3,
+        p1: DVec3,
+        h0: f64,
+        h1: f64,
+    ) -> Option<LayerContact> {
+        // The thickest layer under the segment, from the blocks its footprint covers.
+        let top = self.block_max_under(face, p0, p1);
+        if h0.min(h1) > top {
+            return None;
+        }
+        // The part of the segment within the slab between the face and (just above) the thickest
+        // cell, so that a segment from above starts outside the layer even over its peak.
+        let roof = top * (1.0 + 1e-9);
+        let s_start = if h0 > roof { (h0 - roof) / (h0 - h1) } else { 0.0 };
+        let s_end = if h1 < 0.0 { h0 / (h0 - h1) } else { 1.0 };
+        // The column over the point at fraction `s`, if it lies over the face.
+        let column = |s: f64| -> Option<u32> {
+            let (u, v) = face.local(p0.lerp(p1, s));
+            (u.abs() <= face.half_width && v.abs() <= face.half_height).then(|| self.cell_at(u, v))
+        };
+        let inside = |s: f64| -> Option<u32> {
+            let cell = column(s)?;
+            let q = p0.lerp(p1, s);
+            ((q - face.center).dot(face.normal) <= self.thickness[cell as usize]).then_some(cell)
+        };
+        // March at half a cell along the face.
+        let (dx, dy) = self.cell_size();
+        let along = (p1 - p0) - face.normal * (h1 - h0);
+        let span = along.length() * (s_end - s_start);
+        let n = ((span / (0.5 * dx.min(dy))).ceil() as usize).clamp(1, 1 << 16);
+        // Skipping relies on steps of at most half a cell, which the clamp of `n` could break.
+        let fine = span <= n as f64 * 0.5 * dx.min(dy);
+        let sample = |k: usize| s_start + (s_end - s_start) * k as f64 / n as f64;
+        let height = |s: f64| (p0.lerp(p1, s) - face.center).dot(face.normal);
+        let mut was_inside = inside(s_start).is_some();
+        let mut prev = s_start;
+        let mut k = 1;
+        while k <= n {
+            let s = sample(k);
+            // Skip a run of samples that all pass above the layer of the blocks around this one:
+            // they would all test outside, so the march finds the same entry, only sooner.
+            let run = SKIP_RUN.min(n - k);
+            if fine && !was_inside && run >= 4 {
+                let bound = self.block_max_around(face, p0.lerp(p1, s)) + SKIP_MARGIN;
+                if height(s) > bound && height(sample(k + run)) > bound {
+                    prev = sample(k + run);
+                    k += run + 1;
+                    continue;
+                }
+            }
+            let now = inside(s).is_some();
+            if now && !was_inside {
+                let (a, b) = bisect(prev, s, |m| inside(m).is_some());
+                // `b` stays inside throughout the bisection.
+                let entered = inside(b)?;
+                let (gu, gv) = self.gradient(entered);
+                let normal = (face.normal - face.right * gu - face.up * gv).normalize();
+                // Through the side of a taller column, the material settles in the column the
+                // particle came down (as in ballistic deposition); stacking it on the taller one
+                // would let every column that gets ahead catch its neighbours' flux and grow
+                // into a needle.
+                let cell = column(a).unwrap_or(entered);
+                return Some(LayerContact { s: b, point: p0.lerp(p1, b), normal, cell });
+            }
+            was_inside = now;
+            prev = s;
+            k += 1;
+        }
+        None
+    }
+
+    /// Σ thickness × cell area: the volume held by the field, m³.
+    pub fn volume(&self) -> f64 {
+        self.thickness.iter().sum::<f64>() * self.cell_area()
+    }
+}
+
+/// Narrows `[a, b]`, with `a` outside and `b` inside, to the entry by 32 halvings; returns the
+/// last outside and inside fractions.
+fn bisect(mut a: f64, mut b: f64, inside: impl Fn(f64) -> bool) -> (f64, f64) {
+    for _ in 0..32 {
+        let m = 0.5 * (a + b);
+        if inside(m) {
+            b = m;
+        } else {
+            a = m;
+        }
+    }
+    (a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cells_grow_right_and_up_from_the_bottom_left() {
+        let f = HeightField::new(2.0, 1.0, 4, 2, 0.0);
+        assert_eq!(f.cell_at(-0.99, -0.49), 0);
+        assert_eq!(f.cell_at(0.99, -0.49), 3);
+        assert_eq!(f.cell_at(-0.99, 0.49), 4);
+        assert_eq!(f.cell_at(1.0, 0.5), 7, "the far edge belongs to the last cell");
+        assert_eq!(f.cell_at(-0.1, 0.1), 5);
+    }
+
+    #[test]
+    fn splat_conserves_volume_everywhere_and_spreads_in_the_interior() {
+        let mut f = HeightField::new(1.0, 1.0, 100, 100, 0.03);
+        for cell in [0, 99, 5050, 9999, 150] {
+            f.deposit(cell, 1e-6);
+        }
+        assert!((f.volume() - 5e-6).abs() < 1e-18);
+        // Interior splat: the cells within 3 cell widths, 29 of them, share it evenly.
+        let mut g = HeightField::new(1.0, 1.0, 100, 100, 0.03);
+        g.deposit(5050, 29e-4 * 1e-4);
+        let touched: Vec<f64> = g.thickness().iter().copied().filter(|&t| t > 0.0).collect();
+        assert_eq!(touched.len(), 29);
+        assert!(touched.iter().all(|&t| (t - 1e-4).abs() < 1e-15));
+    }
+}

@@ -1,0 +1,175 @@
+//! Deposit surfaces: the surfaces of targets, which collect what sticks to them.
+//!
+//! A [`DepositSurface`] owns how an impact maps to a cell, how the deposited layer offsets
+//! later impacts, the surface's orientation at each cell (for cohesion and the other layer
+//! stages), which cells neighbour each other, and how its field is laid out for writers. The
+//! built-in kinds are listed once, in the `surfaces!` invocation below, which generates the
+//! [`Surface`] enum and its static dispatch: a rectangle with a heightfield
+//! ([`RectangleSurface`]) today.
+
+mod heightfield;
+mod rectangle;
+
+pub use heightfield::HeightField;
+pub use rectangle::RectangleSurface;
+
+use crate::collision::Shape;
+use glam::DVec3;
+
+/// Where a path meets a deposited layer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerContact {
+    /// Fraction of the path at the contact.
+    pub s: f64,
+    /// Contact point, m.
+    pub point: DVec3,
+    /// The layer's unit normal there, from the thickness gradient.
+    pub normal: DVec3,
+    /// The cell the material settles in: the one entered from above, or, entering a taller
+    /// column through its side, the column the particle was over.
+    pub cell: u32,
+}
+
+/// How a surface's cells are laid out, for the writers of maps and meshes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Layout {
+    /// `rows × cols` cells stored row-major from row 0; `cell` is their size `(along a row,
+    /// along a column)`, m.
+    Grid {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+        /// Cell size `(width, height)`, m.
+        cell: (f64, f64),
+    },
+}
+
+/// A surface that collects deposit. Cells are numbered `0..cells()`; thickness is volume per
+/// area of the bare surface, m.
+pub trait DepositSurface: Send + Sync + std::fmt::Debug {
+    /// The bare surface as a collision shape.
+    fn collider(&self) -> Shape;
+
+    /// True if a hit on the bare surface whose normal (facing the incoming particle) is
+    /// `normal` strikes the receiving side.
+    fn receives(&self, normal: DVec3) -> bool;
+
+    /// The cell under a point on the bare surface (clamped to the surface).
+    fn cell_at(&self, point: DVec3) -> u32;
+
+    /// Where the segment `p0 → p1` first enters the deposited layer on the receiving side.
+    fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact>;
+
+    /// Unit normal of the bare surface at `cell`, towards the receiving side.
+    fn normal(&self, cell: u32) -> DVec3;
+
+    /// The normal shared by every cell, for flat surfaces.
+    fn uniform_normal(&self) -> Option<DVec3> {
+        None
+    }
+
+    /// The point `height` (m) in front of the bare surface at the centre of `cell`.
+    fn point_above(&self, cell: u32, height: f64) -> DVec3;
+
+    /// Thickness per cell, m.
+    fn thickness(&self) -> &[f64];
+
+    /// Impacts per cell (stuck or rebounded).
+    fn hits(&self) -> &[u32];
+
+    /// Area of `cell` on the bare surface, m².
+    fn cell_area(&self, cell: u32) -> f64;
+
+    /// Total area of `cells`, m².
+    fn area_of(&self, cells: &[u32]) -> f64 {
+        cells.iter().map(|&c| self.cell_area(c)).sum()
+    }
+
+    /// An upper bound of every cell's thickness, m.
+    fn max_thickness(&self) -> f64;
+
+    /// Σ thickness × area: the volume held, m³.
+    fn volume(&self) -> f64;
+
+    /// Counts one impact in `cell`.
+    fn add_hit(&mut self, cell: u32);
+
+    /// Deposits `volume` (m³) centred on `cell`, conserving it exactly (up to rounding).
+    fn deposit(&mut self, cell: u32, volume: f64);
+
+    /// Removes up to `volume` (m³) from `cell`; returns the volume removed.
+    fn remove(&mut self, cell: u32, volume: f64) -> f64;
+
+    /// Calls `visit(neighbour, shared edge length in m)` for each cell that touches `cell`:
+    /// first the ones sharing an edge, then the ones sharing only a corner (length 0).
+    fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64));
+
+    /// How the cells are laid out.
+    fn layout(&self) -> Layout;
+}
+
+/// Declares the built-in deposit surfaces: the [`Surface`] enum and its dispatch.
+macro_rules! surfaces {
+    ($( $(#[$doc:meta])* $variant:ident($ty:ty), )*) => {
+        /// Any built-in deposit surface.
+        #[derive(Clone, Debug)]
+        pub enum Surface {
+            $( $(#[$doc])* $variant($ty), )*
+        }
+
+        macro_rules! each {
+            ($self:expr, $s:ident => $body:expr) => {
+                match $self { $( Surface::$variant($s) => $body, )* }
+            };
+        }
+
+        impl DepositSurface for Surface {
+            fn collider(&self) -> Shape { each!(self, s => s.collider()) }
+            #[inline]
+            fn receives(&self, normal: DVec3) -> bool { each!(self, s => s.receives(normal)) }
+            #[inline]
+            fn cell_at(&self, point: DVec3) -> u32 { each!(self, s => s.cell_at(point)) }
+            #[inline]
+            fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
+                each!(self, s => s.layer_contact(p0, p1))
+            }
+            #[inline]
+            fn normal(&self, cell: u32) -> DVec3 { each!(self, s => s.normal(cell)) }
+            fn uniform_normal(&self) -> Option<DVec3> { each!(self, s => s.uniform_normal()) }
+            fn point_above(&self, cell: u32, height: f64) -> DVec3 {
+                each!(self, s => s.point_above(cell, height))
+            }
+            #[inline]
+            fn thickness(&self) -> &[f64] { each!(self, s => s.thickness()) }
+            fn hits(&self) -> &[u32] { each!(self, s => s.hits()) }
+            #[inline]
+            fn cell_area(&self, cell: u32) -> f64 { each!(self, s => s.cell_area(cell)) }
+            fn area_of(&self, cells: &[u32]) -> f64 { each!(self, s => s.area_of(cells)) }
+            #[inline]
+            fn max_thickness(&self) -> f64 { each!(self, s => s.max_thickness()) }
+            fn volume(&self) -> f64 { each!(self, s => s.volume()) }
+            fn add_hit(&mut self, cell: u32) { each!(self, s => s.add_hit(cell)) }
+            fn deposit(&mut self, cell: u32, volume: f64) { each!(self, s => s.deposit(cell, volume)) }
+            fn remove(&mut self, cell: u32, volume: f64) -> f64 { each!(self, s => s.remove(cell, volume)) }
+            fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64)) {
+                each!(self, s => s.neighbours(cell, visit))
+            }
+            fn layout(&self) -> Layout { each!(self, s => s.layout()) }
+        }
+    };
+}
+
+surfaces! {
+    /// A rectangle with a regular heightfield.
+    Rectangle(RectangleSurface),
+}
+
+impl Surface {
+    /// The rectangle, if this surface is one.
+    pub fn as_rectangle(&self) -> Option<&RectangleSurface> {
+        match self {
+            Surface::Rectangle(r) => Some(r),
+        }
+    }
+}

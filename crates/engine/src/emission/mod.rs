@@ -1,0 +1,13 @@
+//! Where particles come from: the nozzle's path and pose, and the emitter that samples start
+//! positions and velocities in the nozzle's frame.
+
+mod emitter;
+mod nozzle;
+mod paths;
+
+pub use emitter::{
+    Aperture, Direction, Emitter, inverse_normal_cdf, normal_cdf, normal_sf, truncated_normal_mass,
+    truncated_normal_unit,
+};
+pub use nozzle::{NozzleFrame, NozzlePath, Waypoint, slerp};
+pub use paths::{PassDirection, RasterPlan, circling_waypoints, raster_waypoints};

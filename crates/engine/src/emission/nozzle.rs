@@ -1,0 +1,191 @@
+//! The nozzle's pose over time: static, or interpolated between time-stamped waypoints. A
+//! [`NozzlePath`] is a plain value: the caller may replace a running simulation's path between
+//! steps (closed-loop control, learning).
+
+use glam::DVec3;
+
+/// A nozzle pose: where particles start and the frame their directions are sampled in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NozzleFrame {
+    /// Nozzle position, m.
+    pub position: DVec3,
+    /// Unit spray axis.
+    pub axis: DVec3,
+    /// Unit axis across the aperture's width (fan nozzles spread along it).
+    pub width_axis: DVec3,
+    /// Unit axis across the aperture's height: `axis × width_axis`.
+    pub height_axis: DVec3,
+}
+
+impl NozzleFrame {
+    /// Frame for a spray `axis`, rolled by `roll` (rad) about it. At zero roll the width axis is
+    /// horizontal (`axis × z`), or +x when spraying straight up or down.
+    pub fn new(position: DVec3, axis: DVec3, roll: f64) -> Self {
+        let axis = axis.normalize();
+        let horizontal = axis.cross(DVec3::Z);
+        let w0 = if horizontal.length_squared() > 1e-12 { horizontal.normalize() } else { DVec3::X };
+        let h0 = axis.cross(w0);
+        let (s, c) = roll.sin_cos();
+        let width_axis = w0 * c + h0 * s;
+        NozzleFrame { position, axis, width_axis, height_axis: axis.cross(width_axis) }
+    }
+}
+
+/// One time-stamped pose of a nozzle path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waypoint {
+    /// Time, s.
+    pub time: f64,
+    /// Position, m.
+    pub position: DVec3,
+    /// Unit spray axis.
+    pub axis: DVec3,
+    /// Whether the nozzle sprays from this waypoint until the next.
+    pub spray: bool,
+}
+
+/// The nozzle's motion: waypoints and the roll of the aperture about the spray axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NozzlePath {
+    waypoints: Vec<Waypoint>,
+    roll: f64,
+}
+
+impl NozzlePath {
+    /// A nozzle that stays put and sprays throughout.
+    pub fn fixed(position: DVec3, axis: DVec3, roll: f64) -> Self {
+        // The waypoint list is never empty: `at` relies on it.
+        NozzlePath {
+            waypoints: vec![Waypoint { time: 0.0, position, axis: axis.normalize(), spray: true }],
+            roll,
+        }
+    }
+
+    /// A path through waypoints sorted by strictly increasing time (at least one), with the
+    /// aperture rolled by `roll` (rad) about the axis.
+    pub fn through(waypoints: Vec<Waypoint>, roll: f64) -> Self {
+        let waypoints = waypoints.into_iter().map(|w| Waypoint { axis: w.axis.normalize(), ..w }).collect();
+        NozzlePath { waypoints, roll }
+    }
+
+    /// Pose at time `t` (s) and whether the nozzle sprays then. Position is interpolated
+    /// linearly, the axis spherically; before the first and after the last waypoint the nozzle
+    /// holds that waypoint's pose.
+    pub fn at(&self, t: f64) -> (NozzleFrame, bool) {
+        let w = &self.waypoints;
+        if w.is_empty() {
+            return (NozzleFrame::new(DVec3::ZERO, DVec3::X, self.roll), false);
+        }
+        let i = w.partition_point(|p| p.time <= t);
+        let (pos, axis, spray) = if i == 0 {
+            (w[0].position, w[0].axis, w[0].spray)
+        } else if i == w.len() {
+            let last = w[w.len() - 1];
+            (last.position, last.axis, last.spray)
+        } else {
+            let (a, b) = (w[i - 1], w[i]);
+            let f = (t - a.time) / (b.time - a.time);
+            (a.position.lerp(b.position, f), slerp(a.axis, b.axis, f), a.spray)
+        };
+        (NozzleFrame::new(pos, axis, self.roll), spray)
+    }
+
+    /// The nozzle's velocity at time `t` (s), m/s: constant along each leg between waypoints,
+    /// zero before the first and after the last.
+    pub fn velocity(&self, t: f64) -> DVec3 {
+        let w = &self.waypoints;
+        let i = w.partition_point(|p| p.time <= t);
+        if i == 0 || i == w.len() {
+            return DVec3::ZERO;
+        }
+        (w[i].position - w[i - 1].position) / (w[i].time - w[i - 1].time)
+    }
+
+    /// The waypoints, by increasing time.
+    pub fn waypoints(&self) -> &[Waypoint] {
+        &self.waypoints
+    }
+
+    /// Roll of the aperture about the spray axis, rad.
+    pub fn roll(&self) -> f64 {
+        self.roll
+    }
+
+    /// Time of the last waypoint at which the nozzle starts spraying or goes on spraying
+    /// after, s: when spraying ends (infinite when the last waypoint sprays).
+    pub fn spray_end(&self) -> f64 {
+        match self.waypoints.last() {
+            Some(last) if last.spray => f64::INFINITY,
+            Some(last) => last.time,
+            None => 0.0,
+        }
+    }
+}
+
+/// Spherical interpolation between unit vectors that are not opposite.
+pub fn slerp(a: DVec3, b: DVec3, f: f64) -> DVec3 {
+    let cos = a.dot(b).clamp(-1.0, 1.0);
+    let omega = cos.acos();
+    if omega < 1e-9 {
+        return a.lerp(b, f).normalize();
+    }
+    let s = omega.sin();
+    (a * ((1.0 - f) * omega).sin() / s + b * (f * omega).sin() / s).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn waypoints_interpolate_position_linearly_and_axis_on_the_sphere() {
+        let path = NozzlePath::through(
+            vec![
+                Waypoint { time: 1.0, position: DVec3::ZERO, axis: DVec3::X, spray: true },
+                Waypoint {
+                    time: 3.0,
+                    position: DVec3::new(2.0, 0.0, 0.0),
+                    axis: DVec3::Y * 5.0,
+                    spray: false,
+                },
+            ],
+            0.0,
+        );
+        let (f, spray) = path.at(2.0);
+        assert!(spray);
+        assert!(f.position.abs_diff_eq(DVec3::new(1.0, 0.0, 0.0), 1e-12));
+        let diag = DVec3::new(1.0, 1.0, 0.0).normalize();
+        assert!(f.axis.abs_diff_eq(diag, 1e-12), "{}", f.axis);
+        let (f, _) = path.at(1.5);
+        assert!((f.axis.angle_between(DVec3::X) - std::f64::consts::FRAC_PI_8).abs() < 1e-12);
+        let (before, spray_before) = path.at(0.0);
+        assert!(before.position == DVec3::ZERO && spray_before);
+        let (after, spray_after) = path.at(10.0);
+        assert!(after.axis.abs_diff_eq(DVec3::Y, 1e-12) && !spray_after);
+    }
+
+    #[test]
+    fn the_frame_is_orthonormal_and_rolls() {
+        let f = NozzleFrame::new(DVec3::ZERO, DVec3::new(1.0, 0.0, -1.0), 0.0);
+        assert!(f.width_axis.z.abs() < 1e-12, "width axis horizontal at zero roll");
+        let r = NozzleFrame::new(DVec3::ZERO, DVec3::new(1.0, 0.0, -1.0), std::f64::consts::FRAC_PI_2);
+        assert!(r.width_axis.abs_diff_eq(f.height_axis, 1e-12));
+        for g in [f, r, NozzleFrame::new(DVec3::ZERO, -DVec3::Z, 0.3)] {
+            assert!((g.axis.dot(g.width_axis)).abs() < 1e-12 && (g.axis.dot(g.height_axis)).abs() < 1e-12);
+            assert!((g.width_axis.cross(g.height_axis) - g.axis).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_circling_nozzle_stays_on_its_circle_across_the_axis() {
+        use crate::emission::circling_waypoints;
+        let axis = DVec3::new(1.0, 0.0, 0.0);
+        let w = circling_waypoints(DVec3::new(-1.0, 0.0, 1.0), axis, 0.1, 2.0, 1.0);
+        assert_eq!(w.len(), 74, "36 samples a revolution over 2 revolutions, and both ends");
+        for p in &w {
+            let off = p.position - DVec3::new(-1.0, 0.0, 1.0);
+            assert!((off.length() - 0.1).abs() < 1e-12 && off.dot(axis).abs() < 1e-12);
+        }
+        assert!(w[36].position.abs_diff_eq(w[0].position, 1e-12), "one revolution in 0.5 s");
+    }
+}

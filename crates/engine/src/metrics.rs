@@ -1,0 +1,370 @@
+//! Run metrics: where every emitted particle ended, and how the layers came out. With the
+//! `serde` feature, [`Metrics`] serializes to the layout of `metrics.json`.
+
+use crate::deposit::DepositSurface;
+use crate::events::FailureEvent;
+use crate::particles::flags;
+use crate::pipeline::Simulation;
+use crate::tally::{Amount, Gauge};
+use crate::world::{Role, Target};
+
+/// Minimum, mean and maximum of a path quantity over the spraying time, and the share of that
+/// time spent outside the recommended window (or with no substrate in front of the nozzle).
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Range {
+    /// Smallest value.
+    pub min: f64,
+    /// Mean value.
+    pub mean: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Share of spraying time outside the window, 0..1.
+    pub outside_share: f64,
+}
+
+/// Process quality along the nozzle's path (see `[process.window]`).
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct PathMetrics {
+    /// Time spent spraying, s.
+    pub spraying_time: f64,
+    /// Share of spraying time with no substrate face along the spray axis, 0..1.
+    pub off_target_share: f64,
+    /// Standoff to the substrate along the spray axis, m.
+    pub standoff: Option<Range>,
+    /// Angle of the spray axis to the substrate's normal (0: square on), degrees.
+    pub angle: Option<Range>,
+    /// Travel speed of the nozzle, m/s.
+    pub speed: Option<Range>,
+}
+
+/// Cohesive failures and what became of the released material.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FailureMetrics {
+    /// Every failure, in time order.
+    pub events: Vec<FailureEvent>,
+    /// Particles released (one per failed or dripping cell) and their volume.
+    pub released: Amount,
+    /// Of those, what dripped off sagging films.
+    pub dripped: Amount,
+    /// Where the released particles are now.
+    pub released_fates: Fates,
+}
+
+/// Where the emitted volume is now, m³: `residual` is what the other terms miss (rounding of
+/// single-precision particle volumes only).
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct VolumeBalance {
+    /// Emitted by the nozzle.
+    pub emitted: f64,
+    /// In the targets' layers and on their backs.
+    pub on_targets: f64,
+    /// On obstacles.
+    pub on_obstacles: f64,
+    /// Left the domain.
+    pub left_domain: f64,
+    /// Expired.
+    pub expired: f64,
+    /// In flight (from the nozzle or released).
+    pub in_flight: f64,
+    /// `emitted` minus the rest.
+    pub residual: f64,
+}
+
+/// Where the emitted particles are: each in exactly one fate.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Fates {
+    /// Stuck on a target (front or back).
+    pub stuck_on_targets: Amount,
+    /// Stuck on an obstacle.
+    pub stuck_on_obstacles: Amount,
+    /// Left the domain box.
+    pub left_domain: Amount,
+    /// Still in flight past the maximum lifetime.
+    pub expired: Amount,
+    /// Still in flight.
+    pub in_flight: Amount,
+}
+
+impl Fates {
+    /// Sum over all fates; equals the emitted amount.
+    pub fn total(&self) -> Amount {
+        self.stuck_on_targets + self.stuck_on_obstacles + self.left_domain + self.expired + self.in_flight
+    }
+}
+
+/// Statistics of a target's thickness over all of its cells, m.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ThicknessStats {
+    /// Mean, m.
+    pub mean: f64,
+    /// Standard deviation, m.
+    pub std_dev: f64,
+    /// Coefficient of variation std_dev / mean (0 when the mean is 0).
+    pub cv: f64,
+    /// Minimum, m.
+    pub min: f64,
+    /// Maximum, m.
+    pub max: f64,
+    /// Coverage threshold, m.
+    pub coverage_threshold: f64,
+    /// Share of cells at or above the coverage threshold (and above 0), 0..1.
+    pub covered_fraction: f64,
+}
+
+impl ThicknessStats {
+    /// Statistics of `t` (m) against `threshold` (m).
+    pub fn of(t: &[f64], threshold: f64) -> ThicknessStats {
+        let n = t.len().max(1) as f64;
+        let mean = t.iter().sum::<f64>() / n;
+        let var = t.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+        let std_dev = var.sqrt();
+        ThicknessStats {
+            mean,
+            std_dev,
+            cv: if mean > 0.0 { std_dev / mean } else { 0.0 },
+            min: t.iter().copied().fold(f64::INFINITY, f64::min),
+            max: t.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            coverage_threshold: threshold,
+            covered_fraction: t.iter().filter(|&&x| x > 0.0 && x >= threshold).count() as f64 / n,
+        }
+    }
+}
+
+/// Per-target metrics.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct TargetMetrics {
+    /// Name.
+    pub name: String,
+    /// Substrate or collector.
+    pub role: Role,
+    /// Impacts, stuck or rebounded, either side.
+    pub hits: u64,
+    /// Stuck on the front, in the heightfield.
+    pub stuck: Amount,
+    /// Stuck on the back (no heightfield).
+    pub stuck_on_back: Amount,
+    /// Σ thickness × cell area, m³ (equals `stuck.volume` up to rounding).
+    pub layer_volume: f64,
+    /// Thickness statistics over the face.
+    pub thickness: ThicknessStats,
+    /// Released material that landed here.
+    pub received: Amount,
+    /// Material that failed and fell off: released particles and volume.
+    pub detached: Amount,
+    /// Share of cells over-loaded but holding at the last cohesion analysis, 0..1.
+    pub at_risk_fraction: f64,
+    /// Share of cells that have failed, 0..1.
+    pub failed_fraction: f64,
+    /// Impacts per cm² of the face, on average.
+    pub hits_per_cm2: f64,
+    /// Erosion (with an erosion model).
+    pub erosion: Option<ErosionStats>,
+    /// Share of cells whose wet film risks sagging (with a sag threshold), 0..1.
+    pub sag_risk_fraction: Option<f64>,
+}
+
+/// Erosion of one target.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ErosionStats {
+    /// Mean eroded depth over the face, m.
+    pub mean_depth: f64,
+    /// Deepest erosion, m.
+    pub max_depth: f64,
+    /// Share of the face cleaned to bare substrate (coating fully removed), 0..1; `null`
+    /// without a coating.
+    pub cleaned_fraction: Option<f64>,
+}
+
+/// Per-obstacle metrics.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ObstacleMetrics {
+    /// Name.
+    pub name: String,
+    /// Impacts.
+    pub hits: u64,
+    /// Stuck on it.
+    pub stuck: Amount,
+    /// Released material that landed on it.
+    pub received: Amount,
+}
+
+/// Everything `metrics.json` reports.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Metrics {
+    /// Simulated time, s.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Particles emitted.
+    pub emitted: Amount,
+    /// Emitted mass, kg (volume × density).
+    pub emitted_mass: f64,
+    /// Where they are.
+    pub fates: Fates,
+    /// Volume that rebounded from its first impact on a substrate ÷ volume that struck a
+    /// substrate; `null` before anything has struck one.
+    pub rebound_ratio: Option<f64>,
+    /// Volume stuck on substrate targets ÷ volume emitted; `null` before anything is emitted.
+    pub transfer_efficiency: Option<f64>,
+    /// Per target, in scenario order.
+    pub targets: Vec<TargetMetrics>,
+    /// Per obstacle, in scenario order.
+    pub obstacles: Vec<ObstacleMetrics>,
+    /// Cohesive failures.
+    pub failures: FailureMetrics,
+    /// Where the emitted volume is.
+    pub volume_balance: VolumeBalance,
+    /// Process quality along the nozzle's path.
+    pub path: PathMetrics,
+}
+
+fn ratio(a: f64, b: f64) -> Option<f64> {
+    (b > 0.0).then(|| a / b)
+}
+
+impl Gauge {
+    fn report(&self, samples: u64) -> Option<Range> {
+        (self.n > 0).then(|| Range {
+            min: self.min,
+            mean: self.sum / self.n as f64,
+            max: self.max,
+            outside_share: (self.outside + samples - self.n) as f64 / samples as f64,
+        })
+    }
+}
+
+impl Simulation {
+    /// The metrics as of now.
+    pub fn metrics(&self) -> Metrics {
+        let (targets, obstacles, tally) = (self.targets(), self.obstacles(), self.tally());
+        let (mut in_flight, mut released_in_flight) = (Amount::default(), Amount::default());
+        let swarm = self.swarm();
+        for (i, f) in swarm.flags.iter().enumerate() {
+            if f & flags::ALIVE != 0 {
+                let a = if f & flags::RELEASED != 0 { &mut released_in_flight } else { &mut in_flight };
+                a.add(f64::from(swarm.volume(i)));
+            }
+        }
+        let fates = Fates {
+            stuck_on_targets: targets.iter().map(|t| t.stuck + t.stuck_back).sum(),
+            stuck_on_obstacles: obstacles.iter().map(|o| o.stuck).sum(),
+            left_domain: tally.left_domain,
+            expired: tally.expired,
+            in_flight,
+        };
+        let released_fates = Fates {
+            stuck_on_targets: targets.iter().map(|t| t.received).sum(),
+            stuck_on_obstacles: obstacles.iter().map(|o| o.received).sum(),
+            left_domain: tally.released_left,
+            expired: tally.released_expired,
+            in_flight: released_in_flight,
+        };
+        let on_substrate: f64 =
+            targets.iter().filter(|t| t.role == Role::Substrate).map(|t| t.surface.volume()).sum();
+        let balance = VolumeBalance::of(tally.emitted.volume, targets, &fates, &released_fates);
+        let density = self.config().material.density;
+        Metrics {
+            time: self.time(),
+            steps: self.steps_done(),
+            emitted: tally.emitted,
+            emitted_mass: tally.emitted.volume * density,
+            rebound_ratio: ratio(tally.substrate_first_rebounds.volume, tally.substrate_first_impacts.volume),
+            transfer_efficiency: ratio(on_substrate, tally.emitted.volume),
+            fates,
+            targets: targets.iter().map(|t| self.target_metrics(t)).collect(),
+            obstacles: obstacles
+                .iter()
+                .map(|o| ObstacleMetrics {
+                    name: o.name.clone(),
+                    hits: o.hits,
+                    stuck: o.stuck,
+                    received: o.received,
+                })
+                .collect(),
+            failures: FailureMetrics {
+                events: self.failures().to_vec(),
+                released: tally.released,
+                dripped: tally.dripped,
+                released_fates,
+            },
+            volume_balance: balance,
+            path: self.path_metrics(),
+        }
+    }
+
+    fn target_metrics(&self, t: &Target) -> TargetMetrics {
+        let c = self.config();
+        let cells = t.failure_mask.len().max(1) as f64;
+        let share = |m: u8| t.failure_mask.iter().filter(|&&x| x == m).count() as f64 / cells;
+        let area_cm2 = cells * t.surface.cell_area(0) * 1e4;
+        let erosion = t.erosion.as_ref().map(|e| ErosionStats {
+            mean_depth: e.eroded.iter().sum::<f64>() / cells,
+            max_depth: e.eroded.iter().copied().fold(0.0, f64::max),
+            cleaned_fraction: (e.initial_coating > 0.0)
+                .then(|| e.coating.iter().filter(|&&c| c <= 0.0).count() as f64 / cells),
+        });
+        let sag = c.sag_threshold;
+        let sag_risk_fraction =
+            (sag > 0.0).then(|| t.sag_risk(sag).iter().map(|&m| f64::from(m)).sum::<f64>() / cells);
+        TargetMetrics {
+            name: t.name.clone(),
+            role: t.role,
+            hits: t.hits,
+            stuck: t.stuck,
+            stuck_on_back: t.stuck_back,
+            layer_volume: t.surface.volume(),
+            thickness: ThicknessStats::of(t.surface.thickness(), c.material.coverage_threshold),
+            received: t.received,
+            detached: t.detached,
+            at_risk_fraction: share(1),
+            failed_fraction: share(2),
+            hits_per_cm2: t.surface.hits().iter().map(|&h| f64::from(h)).sum::<f64>() / area_cm2,
+            erosion,
+            sag_risk_fraction,
+        }
+    }
+
+    fn path_metrics(&self) -> PathMetrics {
+        let path = self.path_tally();
+        PathMetrics {
+            spraying_time: path.samples as f64 * self.config().dt,
+            off_target_share: if path.samples > 0 {
+                (path.samples - path.standoff.n) as f64 / path.samples as f64
+            } else {
+                0.0
+            },
+            standoff: path.standoff.report(path.samples),
+            angle: path.angle.report(path.samples),
+            speed: path.speed.report(path.samples.max(1)),
+        }
+    }
+}
+
+impl VolumeBalance {
+    /// Where `emitted` (m³) is now, from the deposits and the fates.
+    fn of(emitted: f64, targets: &[Target], fates: &Fates, released: &Fates) -> VolumeBalance {
+        let on_targets: f64 =
+            targets.iter().map(|t| t.surface.volume() + t.stuck_back.volume + t.received_back).sum();
+        let b = VolumeBalance {
+            emitted,
+            on_targets,
+            on_obstacles: fates.stuck_on_obstacles.volume + released.stuck_on_obstacles.volume,
+            left_domain: fates.left_domain.volume + released.left_domain.volume,
+            expired: fates.expired.volume + released.expired.volume,
+            in_flight: fates.in_flight.volume + released.in_flight.volume,
+            residual: 0.0,
+        };
+        let residual = b.emitted - (b.on_targets + b.on_obstacles + b.left_domain + b.expired + b.in_flight);
+        VolumeBalance { residual, ..b }
+    }
+}

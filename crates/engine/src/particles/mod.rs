@@ -1,0 +1,7 @@
+//! Particles: structure-of-arrays storage and the random streams each particle draws from.
+
+pub mod rng;
+pub mod swarm;
+
+pub use rng::StreamKey;
+pub use swarm::{Swarm, Volumes, flags};

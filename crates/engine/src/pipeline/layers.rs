@@ -1,0 +1,80 @@
+//! Layer stage: the configured layer stages at their intervals, then the broad phase is told
+//! how far the layers have grown.
+
+use super::{Plan, State};
+use crate::collision::Arc;
+use crate::config::SimulationConfig;
+use crate::deposit::DepositSurface;
+use crate::events::EventHandler;
+use crate::process::layer::{LayerContext, Releaser};
+
+/// Runs each layer stage whose period ends with this step, in configuration order.
+pub(super) fn run(config: &SimulationConfig, plan: &Plan, state: &mut State, events: &mut dyn EventHandler) {
+    let due = |every: u64| every > 0 && (state.step + 1).is_multiple_of(every);
+    if !plan.stages.iter().any(|(every, _)| due(*every)) {
+        return;
+    }
+    let found = state.failures.len();
+    let time = state.step as f64 * config.dt + config.dt;
+    for (every, stage) in &plan.stages {
+        if !due(*every) {
+            continue;
+        }
+        let mut ctx = LayerContext {
+            time,
+            gravity: config.motion.gravity,
+            density: config.material.density,
+            targets: &mut state.targets,
+            failures: &mut state.failures,
+            release: Releaser {
+                swarm: &mut state.swarm,
+                tally: &mut state.tally,
+                next_id: &mut state.next_id,
+            },
+        };
+        stage.run(&mut ctx);
+    }
+    for f in &state.failures[found..] {
+        events.failure(f);
+    }
+}
+
+/// Keeps the broad phase aware of every layer: when a target's layer outgrows the reach it was
+/// indexed with, the reach doubles and the scene is re-indexed (a few times per run).
+pub(super) fn grow_allowances(config: &SimulationConfig, state: &mut State, lazy: bool) {
+    let grown: Vec<_> = state
+        .targets
+        .iter()
+        .filter_map(|t| {
+            let top = t.surface.max_thickness();
+            (top > state.scene.surface(t.surface_id).layer).then_some((t.surface_id, (2.0 * top).max(0.01)))
+        })
+        .collect();
+    if grown.is_empty() {
+        return;
+    }
+    state.scene.set_layer_allowances(&grown);
+    // Only the exact integrator lets particles sleep.
+    if lazy {
+        wake_all(config, state);
+    }
+}
+
+/// Brings every sleeping particle back to the present (in closed form) so that it is updated
+/// next step: the scene it was cleared against has grown.
+pub(super) fn wake_all(config: &SimulationConfig, state: &mut State) {
+    let now = state.step + 1;
+    let (dt, g) = (config.dt, config.motion.gravity);
+    let s = &mut state.swarm;
+    for i in 0..s.len() {
+        let wake = u64::from(s.wake[i]);
+        if wake > now {
+            let back = -((wake - now) as f64 * dt);
+            let flight = Arc { x0: s.pos[i], v0: s.vel[i], g, duration: 0.0 };
+            s.pos[i] = flight.at(back);
+            s.vel[i] = flight.velocity(back);
+            s.age[i] = (f64::from(s.age[i]) + back) as f32;
+        }
+        s.wake[i] = 0;
+    }
+}

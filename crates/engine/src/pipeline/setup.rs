@@ -1,0 +1,89 @@
+//! Builds a simulation's data sets from its configuration.
+
+use super::{Plan, Simulation, State};
+use crate::collision::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
+use crate::config::SimulationConfig;
+use crate::deposit::DepositSurface;
+use crate::events::ImpactLog;
+use crate::particles::{StreamKey, Swarm};
+use crate::tally::{PathTally, Tally};
+use crate::world::{ErosionMaps, Obstacle, Target};
+use std::sync::Arc;
+
+/// The simulation of a checked configuration, at time 0.
+pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
+    let c = &config;
+    // One impact model per owner: targets first, then obstacles.
+    let mut models = Vec::new();
+    let mut surfaces = Vec::new();
+    let mut targets = Vec::new();
+    for (i, t) in c.targets.iter().enumerate() {
+        let surface_id = SurfaceId(surfaces.len() as u32);
+        surfaces.push(SurfaceRef {
+            shape: t.surface.collider(),
+            kind: SurfaceKind::Target(i),
+            impact: models.len(),
+            layer: 0.0,
+        });
+        models.push(t.impact.clone());
+        let cells = t.surface.thickness().len();
+        targets.push(Target {
+            name: t.name.clone(),
+            role: t.role,
+            surface: t.surface.clone(),
+            surface_id,
+            hits: 0,
+            stuck: Default::default(),
+            stuck_back: Default::default(),
+            received: Default::default(),
+            received_back: 0.0,
+            detached: Default::default(),
+            failure_mask: vec![0; cells],
+            erosion: t.erosion.as_ref().map(|e| ErosionMaps {
+                eroded: vec![0.0; cells],
+                coating: vec![e.coating; cells],
+                initial_coating: e.coating,
+            }),
+        });
+    }
+    let mut obstacles = Vec::new();
+    for (i, o) in c.obstacles.iter().enumerate() {
+        let impact = models.len();
+        models.push(o.impact.clone());
+        // Every shape is a surface of its own (a mesh's triangles one by one), so the grid
+        // indexes them separately.
+        surfaces.extend(o.shapes.iter().map(|shape| SurfaceRef {
+            shape: shape.clone(),
+            kind: SurfaceKind::Obstacle(i),
+            impact,
+            layer: 0.0,
+        }));
+        obstacles.push(Obstacle { name: o.name.clone(), ..Obstacle::default() });
+    }
+    let scene = Scene::new(surfaces, c.domain);
+    let steps_of = |interval: f64| (interval / c.dt).round().max(1.0) as u64;
+    let plan = Plan {
+        total_steps: c.total_steps(),
+        key: StreamKey::new(c.seed),
+        models,
+        stages: c.layer_stages.iter().map(|s| (steps_of(s.interval), s.stage.clone())).collect(),
+    };
+    let state = State {
+        step: 0,
+        swarm: Swarm::new(c.emitter.particle_volume as f32),
+        retired: 0,
+        spawn_carry: 0.0,
+        nozzle: c.nozzle.clone(),
+        scene,
+        targets,
+        obstacles,
+        tally: Tally::default(),
+        next_id: 0,
+        particle_steps: 0,
+        particle_updates: 0,
+        failures: Vec::new(),
+        path: PathTally::default(),
+        impact_log: (c.impact_log > 0.0).then(|| ImpactLog::new(c.impact_log, c.seed)),
+    };
+    Simulation { config, plan, state, pool: None, lazy_flight: true }
+}

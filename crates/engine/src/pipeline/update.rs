@@ -1,0 +1,455 @@
+//! Update stage: advances every particle in flight by one step, in parallel. Each particle
+//! moves, collides and resolves its impacts using only its own state, the read-only scene and
+//! its own random stream; what it does to shared state (deposits, hit counts) is returned as
+//! [`ImpactRecord`]s for the apply stage.
+
+use super::{CHUNK, Plan, State};
+use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceId, SurfaceKind};
+use crate::config::SimulationConfig;
+use crate::deposit::{DepositSurface, LayerContact};
+use crate::events::{ImpactEvent, sampled};
+use crate::motion::{Integrator, Motion};
+use crate::particles::{StreamKey, Volumes, flags};
+use crate::process::{ImpactModel, Outcome};
+use crate::tally::Amount;
+use crate::world::{Role, Target};
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Advances every particle in flight by one step, in parallel over fixed chunks; returns what
+/// each chunk produced, in chunk order.
+pub(super) fn run(
+    config: &SimulationConfig,
+    plan: &Plan,
+    state: &mut State,
+    pool: Option<&rayon::ThreadPool>,
+    lazy: bool,
+    capture: Capture,
+) -> Vec<ChunkOutcome> {
+    let ctx = UpdateContext {
+        config,
+        scene: &state.scene,
+        models: &plan.models,
+        targets: &state.targets,
+        motion: config.motion,
+        domain: config.domain,
+        dt: config.dt,
+        key: plan.key,
+        max_impacts: config.max_impacts_per_step,
+        max_lifetime: config.material.max_lifetime,
+        density: config.material.density,
+        time: state.step as f64 * config.dt,
+        capture,
+        step: state.step,
+        lazy,
+    };
+    let s = &mut state.swarm;
+    state.particle_steps += (s.len() - state.retired) as u64;
+    let chunks: Vec<SwarmChunk<'_>> = s
+        .pos
+        .chunks_mut(CHUNK)
+        .zip(s.vel.chunks_mut(CHUNK))
+        .zip(s.age.chunks_mut(CHUNK))
+        .zip(s.id.chunks(CHUNK))
+        .zip(s.impacts.chunks_mut(CHUNK))
+        .zip(s.flags.chunks_mut(CHUNK))
+        .zip(s.wake.chunks_mut(CHUNK))
+        .map(|((((((pos, vel), age), id), impacts), flags), wake)| SwarmChunk {
+            pos,
+            vel,
+            age,
+            volumes: &s.volumes,
+            id,
+            impacts,
+            flags,
+            wake,
+        })
+        .collect();
+    // One task per chunk: their costs differ widely (old rebounds near surfaces against young
+    // particles in free flight), so idle threads must be able to take any of them.
+    let work = || chunks.into_par_iter().with_max_len(1).map(|c| ctx.run_chunk(c)).collect();
+    match pool {
+        Some(pool) => pool.install(work),
+        None => work(),
+    }
+}
+
+/// Bits of [`ImpactRecord::flags`].
+pub(crate) mod record {
+    /// The particle stuck.
+    pub const STUCK: u8 = 1;
+    /// The particle's first impact on the front of a substrate target.
+    pub const FIRST_SUBSTRATE: u8 = 2;
+    /// The impact was on the back of a target.
+    pub const BACK: u8 = 4;
+    /// The particle is released material (see [`crate::swarm::flags::RELEASED`]).
+    pub const RELEASED: u8 = 8;
+}
+
+/// One impact, to be applied to shared state in particle order.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ImpactRecord {
+    pub surface: SurfaceId,
+    pub cell: u32,
+    pub volume: f32,
+    /// Volume the impact erodes from the target, m³.
+    pub eroded: f32,
+    pub flags: u8,
+}
+
+/// What one chunk of particles produced in a step.
+#[derive(Debug, Default)]
+pub(crate) struct ChunkOutcome {
+    pub impacts: Vec<ImpactRecord>,
+    pub left_domain: Amount,
+    pub expired: Amount,
+    /// Released material that left the domain.
+    pub released_left: Amount,
+    /// Released material that expired.
+    pub released_expired: Amount,
+    pub retired: usize,
+    /// Particles updated (not asleep).
+    pub updated: u64,
+    /// Impacts captured for event handlers, in particle order.
+    pub events: Vec<ImpactEvent>,
+}
+
+/// Which impacts the update stage gathers as events.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Capture {
+    /// None.
+    Nothing,
+    /// Those the impact log samples.
+    Sampled {
+        /// Share kept.
+        fraction: f64,
+        /// Salt of the hash.
+        salt: u64,
+    },
+    /// Every impact.
+    All,
+}
+
+impl Capture {
+    #[inline]
+    fn wants(self, id: u32, impact: u16) -> bool {
+        match self {
+            Capture::Nothing => false,
+            Capture::Sampled { fraction, salt } => sampled(salt, id, impact, fraction),
+            Capture::All => true,
+        }
+    }
+}
+
+/// Read-only inputs of the update stage.
+pub(crate) struct UpdateContext<'a> {
+    pub config: &'a SimulationConfig,
+    pub scene: &'a Scene,
+    pub models: &'a [ImpactModel],
+    pub targets: &'a [Target],
+    pub motion: Motion,
+    pub domain: Aabb,
+    pub dt: f64,
+    pub key: StreamKey,
+    pub max_impacts: u32,
+    pub max_lifetime: f64,
+    pub density: f64,
+    /// Time at the start of the step, s.
+    pub time: f64,
+    /// Which impacts to gather as events.
+    pub capture: Capture,
+    /// This step's index.
+    pub step: u64,
+    /// Particles in free flight skip steps (exact integrator only).
+    pub lazy: bool,
+}
+
+/// Mutable views of one chunk of the swarm's arrays.
+pub(crate) struct SwarmChunk<'a> {
+    pub pos: &'a mut [DVec3],
+    pub vel: &'a mut [DVec3],
+    pub age: &'a mut [f32],
+    pub volumes: &'a Volumes,
+    pub id: &'a [u32],
+    pub impacts: &'a mut [u16],
+    pub flags: &'a mut [u8],
+    pub wake: &'a mut [u32],
+}
+
+impl UpdateContext<'_> {
+    /// Advances every live particle of `chunk` by one step.
+    pub fn run_chunk(&self, mut chunk: SwarmChunk<'_>) -> ChunkOutcome {
+        let mut out = ChunkOutcome::default();
+        for i in 0..chunk.pos.len() {
+            if chunk.flags[i] & flags::ALIVE == 0 || u64::from(chunk.wake[i]) > self.step {
+                continue;
+            }
+            out.updated += 1;
+            let age = f64::from(chunk.age[i]) + self.dt;
+            chunk.age[i] = age as f32;
+            let (x, v) = (chunk.pos[i], chunk.vel[i]);
+            let (x1, v1) = self.motion.advance(x, v, self.dt);
+            // Free flight, the common case: nothing to hit, nothing to retire.
+            if self.is_clear(x, v, x1) && self.domain.contains(x1) && age <= self.max_lifetime {
+                chunk.pos[i] = x1;
+                chunk.vel[i] = v1;
+            } else {
+                self.advance_slow(&mut chunk, i, age, &mut out);
+            }
+            if self.lazy && chunk.flags[i] & flags::ALIVE != 0 {
+                self.doze(&mut chunk, i);
+            }
+        }
+        out
+    }
+
+    /// Lets particle `i` skip the coming steps that its flight certainly spends in open space,
+    /// inside the domain and within its lifetime: it moves to the start of the first step that
+    /// needs a look, in closed form, and sleeps until then. What a step would find is then
+    /// found at the step where it happens, so a particle costs work per event, not per step.
+    #[inline]
+    fn doze(&self, chunk: &mut SwarmChunk<'_>, i: usize) {
+        let (x, v, age) = (chunk.pos[i], chunk.vel[i], f64::from(chunk.age[i]));
+        let g = self.motion.gravity;
+        let flight = Arc { x0: x, v0: v, g, duration: 0.0 };
+        // Every skipped step must keep the particle young enough, clear of every surface and
+        // inside the domain (the cheaper tests first: most particles near a surface stop here).
+        let open = self.scene.free_flight(x, v, g, self.max_lifetime - age);
+        if open < 2.0 * self.dt {
+            return;
+        }
+        let steps = (open.min(flight.exit_time(&self.domain)) / self.dt).floor();
+        if steps < 2.0 {
+            return;
+        }
+        let tau = steps * self.dt;
+        chunk.pos[i] = flight.at(tau);
+        chunk.vel[i] = flight.velocity(tau);
+        chunk.age[i] = (age + tau) as f32;
+        chunk.wake[i] = u32::try_from(self.step + 1 + steps as u64).unwrap_or(u32::MAX);
+    }
+
+    /// The full step of particle `i`: impacts, then retirement checks.
+    #[inline(never)]
+    #[cold]
+    fn advance_slow(&self, chunk: &mut SwarmChunk<'_>, i: usize, age: f64, out: &mut ChunkOutcome) {
+        let mut p = Particle {
+            pos: chunk.pos[i],
+            vel: chunk.vel[i],
+            volume: chunk.volumes.of(chunk.id[i], chunk.flags[i]),
+            id: chunk.id[i],
+            impacts: chunk.impacts[i],
+            flags: chunk.flags[i],
+        };
+        let stuck = self.advance(&mut p, out);
+        let volume = f64::from(p.volume);
+        let released = p.flags & flags::RELEASED != 0;
+        if !stuck {
+            if !self.domain.contains(p.pos) {
+                p.flags &= !flags::ALIVE;
+                if released { &mut out.released_left } else { &mut out.left_domain }.add(volume);
+            } else if age > self.max_lifetime || p.impacts == u16::MAX {
+                p.flags &= !flags::ALIVE;
+                if released { &mut out.released_expired } else { &mut out.expired }.add(volume);
+            }
+        }
+        if p.flags & flags::ALIVE == 0 {
+            out.retired += 1;
+        }
+        chunk.pos[i] = p.pos;
+        chunk.vel[i] = p.vel;
+        chunk.impacts[i] = p.impacts;
+        chunk.flags[i] = p.flags;
+    }
+
+    /// True if the flight from `x` with velocity `v` to `x1` over one step certainly hits nothing.
+    #[inline]
+    fn is_clear(&self, x: DVec3, v: DVec3, x1: DVec3) -> bool {
+        match self.motion.integrator {
+            Integrator::Exact => {
+                self.scene.arc_is_clear(&Arc { x0: x, v0: v, g: self.motion.gravity, duration: self.dt })
+            }
+            Integrator::Euler | Integrator::SemiImplicitEuler => self.scene.is_clear(x, x1),
+        }
+    }
+
+    /// Flies from `x` with velocity `v` for `dt`: the end position and velocity, and the first
+    /// hit on the way. A deposited layer is struck on its top, found along the straight chord
+    /// of the step (for the exact integrator, the arc's chord, which it leaves by at most
+    /// g Δt²/8).
+    fn fly(&self, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3, Option<Strike>) {
+        let (x1, v1) = self.motion.advance(x, v, dt);
+        let mut hit = self.fly_bare(x, v, x1, v1, dt).map(|(surface, hit, velocity)| Strike {
+            surface,
+            hit,
+            velocity,
+            cell: None,
+        });
+        for target in self.targets {
+            if let Some(LayerContact { s, point, normal, cell }) = target.surface.layer_contact(x, x1)
+                && hit.is_none_or(|h| s < h.hit.t)
+            {
+                let v_in = match self.motion.integrator {
+                    Integrator::Exact => v + self.motion.gravity * (s * dt),
+                    Integrator::Euler | Integrator::SemiImplicitEuler => v.lerp(v1, s),
+                };
+                // Entering a taller cell from the side meets the side of that step, not the
+                // smoothed slope: its normal opposes the motion along the face.
+                let normal = if v_in.dot(normal) < 0.0 {
+                    normal
+                } else {
+                    let n = target.surface.normal(cell);
+                    (-(v_in - n * v_in.dot(n))).try_normalize().unwrap_or(n)
+                };
+                hit = Some(Strike {
+                    surface: target.surface_id,
+                    hit: Hit { t: s, point, normal },
+                    velocity: v_in,
+                    cell: Some(cell),
+                });
+            }
+        }
+        (x1, v1, hit)
+    }
+
+    /// The first hit on the bare surfaces.
+    fn fly_bare(&self, x: DVec3, v: DVec3, x1: DVec3, v1: DVec3, dt: f64) -> Option<(SurfaceId, Hit, DVec3)> {
+        match self.motion.integrator {
+            Integrator::Exact => {
+                let arc = Arc { x0: x, v0: v, g: self.motion.gravity, duration: dt };
+                self.scene.first_hit_arc(&arc).map(|(s, h)| (s, h, arc.velocity(h.t * dt)))
+            }
+            Integrator::Euler | Integrator::SemiImplicitEuler => self.scene.first_hit(x, x1).map(|(s, h)| {
+                // Velocity at the hit, consistent with the straight segment that found it.
+                let mut v_in = v.lerp(v1, h.t);
+                if v_in.dot(h.normal) >= 0.0 {
+                    v_in = (x1 - x).normalize_or_zero() * v_in.length();
+                }
+                (s, h, v_in)
+            }),
+        }
+    }
+
+    /// The record of an impact of `p` on surface `s`, struck at `hit` with velocity `v_in`;
+    /// `front` is the target, its index and the cell, for a hit on a target's receiving side.
+    /// Marks `p` as having hit a substrate.
+    fn record(
+        &self,
+        p: &mut Particle,
+        s: SurfaceId,
+        front: Option<(&Target, usize, u32)>,
+        hit: &Hit,
+        v_in: DVec3,
+    ) -> ImpactRecord {
+        let mut rec = ImpactRecord { surface: s, cell: u32::MAX, volume: p.volume, eroded: 0.0, flags: 0 };
+        if p.flags & flags::RELEASED != 0 {
+            rec.flags |= record::RELEASED;
+        }
+        match (self.scene.surface(s).kind, front) {
+            (SurfaceKind::Target(_), Some((target, t, cell))) => {
+                rec.cell = cell;
+                if let Some(erosion) = &self.config.targets[t].erosion {
+                    let speed = v_in.length();
+                    // γ: the impact angle from the surface.
+                    let gamma = (-v_in.dot(hit.normal) / speed.max(f64::MIN_POSITIVE)).clamp(0.0, 1.0).asin();
+                    let mass = f64::from(p.volume) * self.density;
+                    rec.eroded = erosion.law.removed_volume(mass, speed, gamma) as f32;
+                }
+                if target.role == Role::Substrate && p.flags & flags::HIT_SUBSTRATE == 0 {
+                    p.flags |= flags::HIT_SUBSTRATE;
+                    rec.flags |= record::FIRST_SUBSTRATE;
+                }
+            }
+            (SurfaceKind::Target(_), None) => rec.flags |= record::BACK,
+            (SurfaceKind::Obstacle(_), _) => {}
+        }
+        rec
+    }
+
+    /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true
+    /// if it stuck (and clears its `ALIVE` bit).
+    fn advance(&self, p: &mut Particle, out: &mut ChunkOutcome) -> bool {
+        let mut x = p.pos;
+        let mut v = p.vel;
+        let mut remaining = self.dt;
+        for _ in 0..self.max_impacts {
+            let (x_end, v_end, hit) = self.fly(x, v, remaining);
+            let Some(Strike { surface: s, hit, velocity: v_in, cell }) = hit else {
+                p.pos = x_end;
+                p.vel = v_end;
+                return false;
+            };
+            p.impacts = p.impacts.saturating_add(1);
+            let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
+            let surface = self.scene.surface(s);
+            // An impact on the front of a target: the target, its index and the cell struck.
+            let front = match surface.kind {
+                SurfaceKind::Target(t) if self.targets[t].surface.receives(hit.normal) => {
+                    let target = &self.targets[t];
+                    let cell = cell.unwrap_or_else(|| target.surface.cell_at(hit.point));
+                    Some((target, t, cell))
+                }
+                _ => None,
+            };
+            // The layer under the impact (for the cushion effect); none off the targets' fronts.
+            let layer = front.map(|(target, _, cell)| target.surface.thickness()[cell as usize]);
+            let outcome = self.models[surface.impact].resolve(v_in, hit.normal, layer, &mut rng);
+            let mut rec = self.record(p, s, front, &hit, v_in);
+            if self.capture.wants(p.id, p.impacts) {
+                out.events.push(ImpactEvent {
+                    time: self.time + (self.dt - remaining) + hit.t * remaining,
+                    position: hit.point,
+                    normal: hit.normal,
+                    velocity: v_in,
+                    surface: s,
+                    stuck: outcome == Outcome::Stick,
+                    eroded: rec.eroded,
+                    particle: p.id,
+                    impact: p.impacts,
+                });
+            }
+            match outcome {
+                Outcome::Stick => {
+                    rec.flags |= record::STUCK;
+                    out.impacts.push(rec);
+                    p.pos = hit.point;
+                    p.vel = DVec3::ZERO;
+                    p.flags &= !flags::ALIVE;
+                    return true;
+                }
+                Outcome::Rebound(v_out) => {
+                    out.impacts.push(rec);
+                    x = hit.point + hit.normal * SURFACE_OFFSET;
+                    v = v_out;
+                    remaining *= 1.0 - hit.t;
+                }
+            }
+        }
+        // Out of impacts for this step: wait at the last impact point.
+        p.pos = x;
+        p.vel = v;
+        false
+    }
+}
+
+/// The first hit of a flight.
+#[derive(Clone, Copy)]
+struct Strike {
+    /// The surface struck.
+    surface: SurfaceId,
+    hit: Hit,
+    /// Velocity at impact, m/s.
+    velocity: DVec3,
+    /// For a hit on a deposited layer, the cell the material settles in.
+    cell: Option<u32>,
+}
+
+/// Working copy of one particle's state.
+struct Particle {
+    pos: DVec3,
+    vel: DVec3,
+    volume: f32,
+    id: u32,
+    impacts: u16,
+    flags: u8,
+}

@@ -1,0 +1,16 @@
+//! Erosion laws: how much material one abrasive impact removes from a target (the Finnie and
+//! Oka models), one law per file. The pipeline applies the removed volume to the struck cell:
+//! it deepens the erosion map and wears the coating away.
+
+mod finnie;
+mod oka;
+
+pub use finnie::{Finnie, finnie_f};
+pub use oka::{Oka, oka_g};
+
+/// Volume removed by one impact. Implementations must be pure functions of the impact.
+pub trait ErosionLaw: Send + Sync + std::fmt::Debug {
+    /// Volume (m³) one impact of `mass` (kg) at `speed` (m/s) and `gamma` (rad, the impact
+    /// angle from the surface) removes.
+    fn removed_volume(&self, mass: f64, speed: f64, gamma: f64) -> f64;
+}

@@ -1,0 +1,20 @@
+//! Rebound laws: the probability p_r that an impact rebounds (before the anti-adhesion factor
+//! α scales it), one law per file.
+
+mod always;
+mod never;
+mod polynomial;
+
+pub use always::AlwaysRebound;
+pub use never::NeverRebound;
+pub use polynomial::PolynomialRebound;
+
+use super::ImpactSite;
+
+/// The angle-dependent part of the stick-or-rebound decision: `P(rebound) = α · p_r · m`, where
+/// this law gives p_r and the [`super::ImpactModel`] the rest. Implementations must be pure
+/// functions of the impact (they run in parallel, and results must not depend on the order).
+pub trait ReboundLaw: Send + Sync + std::fmt::Debug {
+    /// p_r for this impact, in `[0, 1]`.
+    fn probability(&self, impact: &ImpactSite) -> f64;
+}

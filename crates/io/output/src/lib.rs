@@ -1,0 +1,237 @@
+//! # spraysim-output
+//!
+//! Writing a run's results: `metrics.json`, per-target arrays (`.npy`) and heatmaps (`.png`),
+//! the impact log and the resolved scenario. Files are written whole or not at all: everything
+//! goes to a staging folder inside the output directory first and is moved into place only once
+//! all of it has been written.
+
+pub mod heatmap;
+
+use ndarray::ArrayView2;
+use spraysim_engine::Simulation;
+use spraysim_engine::collision::SurfaceKind;
+use spraysim_engine::deposit::{DepositSurface, Layout};
+use spraysim_scenario::Scenario;
+use std::path::{Path, PathBuf};
+
+/// Why outputs could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// A file or folder could not be created, written or moved.
+    #[error("{path}: {source}")]
+    Io {
+        /// What was being written.
+        path: PathBuf,
+        /// Underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// An array could not be encoded.
+    #[error("{path}: cannot write the array: {message}")]
+    Npy {
+        /// File.
+        path: PathBuf,
+        /// Reason.
+        message: String,
+    },
+    /// An image could not be encoded.
+    #[error("{path}: cannot write the image: {message}")]
+    Image {
+        /// File.
+        path: PathBuf,
+        /// Reason.
+        message: String,
+    },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |source| OutputError::Io { path: path.to_path_buf(), source }
+}
+
+/// Checks that `dir` exists or can be created, and that files can be written in it, leaving
+/// nothing behind that was not there before.
+pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
+    let created = !dir.exists();
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let probe = dir.join(format!(".spraysim-probe-{}", std::process::id()));
+    let result = std::fs::write(&probe, b"").map_err(io_err(dir));
+    let _ = std::fs::remove_file(&probe);
+    if created {
+        // Leave no trace of a check: the run will create the directory again.
+        let _ = std::fs::remove_dir(dir);
+    }
+    result
+}
+
+/// Writes every output of `sim`, a run of `scenario`, into `dir` (created if needed); returns
+/// the files written.
+pub fn write_outputs(sim: &Simulation, scenario: &Scenario, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    write_all(dir, &outputs(sim, scenario)?)
+}
+
+/// Writes `files` (relative path, contents) into `dir`, created if needed, all or none: they go to a
+/// staging folder inside `dir` first and are moved into place once every one has been written.
+/// Returns the paths written.
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let staging = dir.join(format!(".spraysim-staging-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::create_dir(&staging).map_err(io_err(&staging))?;
+    // Names may hold folders (`plots/a.png`): create them in the staging area and in `dir`.
+    let folders = |root: &Path| -> Result<(), OutputError> {
+        for (name, _) in files {
+            if let Some(parent) = root.join(name).parent() {
+                std::fs::create_dir_all(parent).map_err(io_err(parent))?;
+            }
+        }
+        Ok(())
+    };
+    let staged = folders(&staging).and_then(|()| {
+        files.iter().try_for_each(|(name, bytes)| {
+            let path = staging.join(name);
+            std::fs::write(&path, bytes).map_err(io_err(&path))
+        })
+    });
+    let staged = staged.and_then(|()| folders(dir));
+    let result = staged.and_then(|()| {
+        files
+            .iter()
+            .map(|(name, _)| {
+                let to = dir.join(name);
+                std::fs::rename(staging.join(name), &to).map_err(io_err(&to))?;
+                Ok(to)
+            })
+            .collect()
+    });
+    let _ = std::fs::remove_dir_all(&staging);
+    result
+}
+
+/// Every output of `sim`, a run of `sc`, as (file name, contents).
+pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
+    let mut files = Vec::new();
+    let metrics = serde_json::to_string_pretty(&sim.metrics())
+        .map_err(|e| OutputError::Io { path: "metrics.json".into(), source: e.into() })?;
+    files.push(("metrics.json".to_string(), metrics.into_bytes()));
+    let header = "# Resolved scenario written by spraysim: every default filled in.\n\
+                  # Run it again with `spraysim run scenario.resolved.toml` for the same result.\n\n";
+    files.push(("scenario.resolved.toml".into(), format!("{header}{}", sc.to_toml()).into_bytes()));
+    if sc.output().impact_log > 0.0 {
+        files.push(("impacts.csv".into(), impact_csv(sim).into_bytes()));
+    }
+    for t in sim.targets() {
+        let Layout::Grid { rows, cols, .. } = t.surface.layout();
+        let name = |what: &str, ext: &str| format!("{}_{what}.{ext}", t.name);
+        if sc.output().arrays {
+            let thickness: Vec<f32> = t.surface.thickness().iter().map(|&x| x as f32).collect();
+            let n = name("thickness", "npy");
+            files.push((n.clone(), npy_bytes(rows, cols, &thickness, Path::new(&n))?));
+            let n = name("hits", "npy");
+            files.push((n.clone(), npy_bytes(rows, cols, t.surface.hits(), Path::new(&n))?));
+            if let Some(e) = &t.erosion {
+                let eroded: Vec<f32> = e.eroded.iter().map(|&x| x as f32).collect();
+                let n = name("erosion", "npy");
+                files.push((n.clone(), npy_bytes(rows, cols, &eroded, Path::new(&n))?));
+            }
+        }
+        if sc.output().images {
+            for (what, img) in heatmaps(t, sc, rows, cols) {
+                let n = name(what, "png");
+                files.push((n.clone(), png_bytes(&img, Path::new(&n))?));
+            }
+        }
+    }
+    Ok(files)
+}
+
+/// The heatmaps of one target, by what they show.
+fn heatmaps(
+    t: &spraysim_engine::world::Target,
+    sc: &Scenario,
+    rows: usize,
+    cols: usize,
+) -> Vec<(&'static str, image::RgbImage)> {
+    let map = sc.output().colormap;
+    let thickness = t.surface.thickness();
+    let max = thickness.iter().copied().fold(0.0, f64::max);
+    let scale = heatmap::Scale::thickness(max);
+    let grid = heatmap::Grid { values: thickness, cols, rows, marks: None };
+    let mut out = vec![("thickness", heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, map))];
+    // Impacts per cm², the map a blasting jet leaves.
+    let per_cm2 = 1.0 / (t.surface.cell_area(0) * 1e4);
+    let hits: Vec<f64> = t.surface.hits().iter().map(|&h| f64::from(h) * per_cm2).collect();
+    let grid_hits = heatmap::Grid { values: &hits, cols, rows, marks: None };
+    let scale_hits = heatmap::Scale::count("impacts [1/cm²]");
+    out.push(("hits", heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, map)));
+    if let Some(e) = &t.erosion {
+        let deepest = e.eroded.iter().copied().fold(0.0, f64::max);
+        let mut scale = heatmap::Scale::thickness(deepest);
+        scale.label = scale.label.replace("thickness", "eroded");
+        let grid = heatmap::Grid { values: &e.eroded, cols, rows, marks: None };
+        out.push(("erosion", heatmap::render(&grid, &format!("{}: erosion", t.name), &scale, map)));
+    }
+    let process = sc.process();
+    if process.sag_threshold > 0.0 {
+        let risk = t.sag_risk(process.sag_threshold);
+        let grid = heatmap::Grid { marks: Some(&risk), ..grid };
+        out.push(("sag", heatmap::render(&grid, &format!("{}: sag risk (orange)", t.name), &scale, map)));
+    }
+    if process.cohesion.interval > 0.0 {
+        let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
+        let title = format!("{}: failed (red), at risk (orange)", t.name);
+        out.push(("failure", heatmap::render(&grid, &title, &scale, map)));
+    }
+    out
+}
+
+/// The impact log as CSV: one sampled impact a row.
+fn impact_csv(sim: &Simulation) -> String {
+    let name = |s| match sim.scene().surface(s).kind {
+        SurfaceKind::Target(i) => sim.targets()[i].name.as_str(),
+        SurfaceKind::Obstacle(i) => sim.obstacles()[i].name.as_str(),
+    };
+    let mut out =
+        String::from("time_s,x_m,y_m,z_m,nx,ny,nz,vx_m_s,vy_m_s,vz_m_s,surface,outcome,eroded_m3\n");
+    for i in sim.impact_log() {
+        let (p, n, v) = (i.position, i.normal, i.velocity);
+        let outcome = if i.stuck { "stuck" } else { "rebounded" };
+        out.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{outcome},{}\n",
+            i.time,
+            p.x,
+            p.y,
+            p.z,
+            n.x,
+            n.y,
+            n.z,
+            v.x,
+            v.y,
+            v.z,
+            name(i.surface),
+            i.eroded
+        ));
+    }
+    out
+}
+
+fn npy_bytes<T: ndarray_npy::WritableElement>(
+    rows: usize,
+    cols: usize,
+    data: &[T],
+    at: &Path,
+) -> Result<Vec<u8>, OutputError> {
+    use ndarray_npy::WriteNpyExt;
+    let err = |message: String| OutputError::Npy { path: at.to_path_buf(), message };
+    let array = ArrayView2::from_shape((rows, cols), data).map_err(|e| err(e.to_string()))?;
+    let mut bytes = Vec::new();
+    array.write_npy(&mut bytes).map_err(|e| err(e.to_string()))?;
+    Ok(bytes)
+}
+
+/// `img` encoded as PNG; `at` names the file in errors.
+pub fn png_bytes(img: &image::RgbImage, at: &Path) -> Result<Vec<u8>, OutputError> {
+    let mut bytes = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| OutputError::Image { path: at.to_path_buf(), message: e.to_string() })?;
+    Ok(bytes)
+}

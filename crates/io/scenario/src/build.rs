@@ -1,0 +1,259 @@
+//! A scenario's configuration for the engine: file units to SI radians, names to modules.
+
+use crate::params::*;
+use crate::scenario::Scenario;
+use glam::DVec3;
+use spraysim_engine::collision::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere};
+use spraysim_engine::config::{
+    ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
+};
+use spraysim_engine::deposit::{RectangleSurface, Surface};
+use spraysim_engine::emission::{self, Emitter, NozzlePath, Waypoint, circling_waypoints, raster_waypoints};
+use spraysim_engine::motion::Motion;
+use spraysim_engine::process::erosion::{Finnie, Oka};
+use spraysim_engine::process::layer::{CohesionStage, DripStage, Strength};
+use spraysim_engine::process::rebound::{AlwaysRebound, NeverRebound, PolynomialRebound};
+use spraysim_engine::process::{ErosionLaw, ImpactModel};
+use std::sync::Arc;
+
+fn v3(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+impl Scenario {
+    /// The engine's configuration of this scenario.
+    pub fn config(&self) -> SimulationConfig {
+        config(self)
+    }
+
+    /// A simulation of this scenario at time 0.
+    pub fn build(&self) -> Result<spraysim_engine::Simulation, spraysim_engine::SetupError> {
+        spraysim_engine::Simulation::new(self.config())
+    }
+}
+
+/// The engine's configuration of `sc`.
+fn config(sc: &Scenario) -> SimulationConfig {
+    let (s, p) = (sc.simulation(), sc.process());
+    let erosion = erosion_law(&p.erosion);
+    let targets: Vec<TargetConfig> = sc
+        .targets()
+        .iter()
+        .map(|t| TargetConfig {
+            name: t.name.clone(),
+            role: t.role,
+            surface: surface(&t.shape),
+            impact: impact_model(t.impact.as_ref().unwrap_or(&p.impact)),
+            erosion: erosion.clone().map(|law| ErosionConfig { law, coating: t.coating }),
+        })
+        .collect();
+    let obstacles = sc
+        .obstacles()
+        .iter()
+        .map(|o| ObstacleConfig {
+            name: o.name.clone(),
+            shapes: obstacle_shapes(&o.shape),
+            impact: impact_model(o.impact.as_ref().unwrap_or(&p.impact)),
+        })
+        .collect();
+    let mut layer_stages = Vec::new();
+    let c = &p.cohesion;
+    if c.interval > 0.0 {
+        let strength =
+            Strength { tensile: c.tensile_strength, shear: c.shear_strength, cohesion: c.cohesion };
+        layer_stages
+            .push(ScheduledStage { interval: c.interval, stage: Arc::new(CohesionStage { strength }) });
+    }
+    if p.drip_interval > 0.0 {
+        let stage = Arc::new(DripStage { threshold: p.sag_threshold });
+        layer_stages.push(ScheduledStage { interval: p.drip_interval, stage });
+    }
+    let w = &p.window;
+    SimulationConfig {
+        dt: s.dt,
+        duration: s.duration,
+        seed: s.seed,
+        max_impacts_per_step: s.max_impacts_per_step,
+        motion: Motion { gravity: v3(s.gravity), drag: p.drag, integrator: s.integrator },
+        material: Material {
+            density: p.density,
+            max_lifetime: p.max_lifetime,
+            coverage_threshold: p.coverage_threshold,
+        },
+        emitter: emitter(sc.emitter(), p.flow_rate),
+        nozzle: nozzle_path(sc, &targets),
+        add_nozzle_velocity: sc.nozzle().add_velocity,
+        targets,
+        obstacles,
+        domain: Aabb { min: v3(sc.domain().min), max: v3(sc.domain().max) },
+        layer_stages,
+        sag_threshold: p.sag_threshold,
+        window: PathWindow { standoff: w.standoff, max_angle: w.max_angle, speed: w.speed },
+        impact_log: sc.output().impact_log,
+    }
+}
+
+/// Impact parameters in file units → the impact model in radians.
+pub fn impact_model(p: &ImpactParams) -> ImpactModel {
+    ImpactModel {
+        alpha: p.alpha,
+        rebound: match &p.rebound {
+            ReboundParams::Polynomial { rebound_polynomial } => {
+                Arc::new(PolynomialRebound { coefficients: rebound_polynomial.clone() })
+            }
+            ReboundParams::Always => Arc::new(AlwaysRebound),
+            ReboundParams::Never => Arc::new(NeverRebound),
+        },
+        restitution: p.restitution,
+        scatter: p.scatter_angle.to_radians(),
+        rest_speed: p.rest_speed,
+        rest_max_slope: p.rest_max_slope.to_radians(),
+        cushion_factor: p.cushion_factor,
+        cushion_thickness: p.cushion_thickness,
+    }
+}
+
+fn erosion_law(e: &ErosionParams) -> Option<Arc<dyn ErosionLaw>> {
+    match *e {
+        ErosionParams::None => None,
+        ErosionParams::Finnie { finnie_k } => Some(Arc::new(Finnie { k: finnie_k })),
+        ErosionParams::Oka {
+            oka_e90,
+            oka_n1,
+            oka_n2,
+            oka_hv,
+            oka_k2,
+            oka_k3,
+            oka_v_ref,
+            oka_d_ref,
+            grain_diameter,
+        } => Some(Arc::new(Oka {
+            e90: oka_e90,
+            n1: oka_n1,
+            n2: oka_n2,
+            hv: oka_hv,
+            k2: oka_k2,
+            k3: oka_k3,
+            v_ref: oka_v_ref,
+            d_ref: oka_d_ref,
+            grain_diameter,
+        })),
+    }
+}
+
+fn surface(shape: &TargetShape) -> Surface {
+    match *shape {
+        TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius } => {
+            let face = Face::new(v3(center), v3(normal), v3(up), size);
+            let [cols, rows] = resolution.map(|r| r as usize);
+            Surface::Rectangle(RectangleSurface::new(face, cols, rows, splat_radius))
+        }
+    }
+}
+
+/// The collision shapes of an obstacle: one, or a mesh's triangles.
+fn obstacle_shapes(shape: &ObstacleShape) -> Vec<Shape> {
+    let one = match *shape {
+        ObstacleShape::Plane { center, normal } => {
+            Shape::Plane(Plane { point: v3(center), normal: v3(normal).normalize() })
+        }
+        ObstacleShape::Face { center, normal, up, size } => {
+            Shape::Face(Face::new(v3(center), v3(normal).normalize(), v3(up), size))
+        }
+        ObstacleShape::Disk { center, normal, radius } => {
+            Shape::Disk(Disk { center: v3(center), normal: v3(normal).normalize(), radius })
+        }
+        ObstacleShape::Sphere { center, radius } => Shape::Sphere(Sphere { center: v3(center), radius }),
+        ObstacleShape::Box { center, size, x_axis, y_axis } => {
+            let x = v3(x_axis).normalize();
+            let y = v3(y_axis);
+            let y = (y - x * y.dot(x)).normalize();
+            Shape::Box(OrientedBox {
+                center: v3(center),
+                axes: [x, y, x.cross(y)],
+                half_extents: DVec3::from_array(size) / 2.0,
+            })
+        }
+        ObstacleShape::Cylinder { start, end, radius } => {
+            Shape::Cylinder(Cylinder { a: v3(start), b: v3(end), radius })
+        }
+        ObstacleShape::Mesh(ref m) => return m.triangles.iter().map(|&t| Shape::Triangle(t)).collect(),
+    };
+    vec![one]
+}
+
+fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
+    let aperture = match e.aperture {
+        Aperture::Point => emission::Aperture::Point,
+        Aperture::Circle { diameter } => emission::Aperture::Circle { r: diameter / 2.0 },
+        Aperture::Rectangle { width, height } => {
+            emission::Aperture::Rectangle { hw: width / 2.0, hh: height / 2.0 }
+        }
+        Aperture::Annulus { inner_diameter, outer_diameter } => {
+            emission::Aperture::Annulus { r_in: inner_diameter / 2.0, r_out: outer_diameter / 2.0 }
+        }
+    };
+    let (direction, cone_angle) = match e.direction {
+        DirectionLaw::UniformPolar { cone_angle } => (emission::Direction::UniformPolar, cone_angle),
+        DirectionLaw::TruncatedNormal { cone_angle, mu, sigma } => {
+            (emission::Direction::TruncatedNormal { mu, sigma }, cone_angle)
+        }
+        DirectionLaw::UniformSolidAngle { cone_angle } => {
+            (emission::Direction::UniformSolidAngle, cone_angle)
+        }
+        DirectionLaw::Fan { fan_wide_angle, fan_narrow_angle } => (
+            emission::Direction::Fan {
+                wide: fan_wide_angle.to_radians(),
+                narrow: fan_narrow_angle.to_radians(),
+            },
+            fan_wide_angle.max(fan_narrow_angle),
+        ),
+    };
+    Emitter {
+        aperture,
+        direction,
+        cone_half_angle: (cone_angle / 2.0).to_radians(),
+        speed: e.speed,
+        spawn_rate: e.spawn_rate,
+        particle_volume: flow_rate / e.spawn_rate,
+    }
+}
+
+fn nozzle_path(sc: &Scenario, targets: &[TargetConfig]) -> NozzlePath {
+    let n = sc.nozzle();
+    let roll = n.roll.to_radians();
+    match &n.motion {
+        NozzleMotion::Static { position, axis } => NozzlePath::fixed(v3(*position), v3(*axis), roll),
+        NozzleMotion::Circling { position, axis, circle_radius, circle_frequency } => NozzlePath::through(
+            circling_waypoints(
+                v3(*position),
+                v3(*axis),
+                *circle_radius,
+                *circle_frequency,
+                sc.simulation().duration,
+            ),
+            roll,
+        ),
+        NozzleMotion::Waypoints { waypoints } => NozzlePath::through(
+            waypoints
+                .iter()
+                .map(|w| Waypoint {
+                    time: w.time,
+                    position: v3(w.position),
+                    axis: v3(w.axis),
+                    spray: w.spray,
+                })
+                .collect(),
+            roll,
+        ),
+        NozzleMotion::Raster { raster: r } => {
+            // Reading the raster checked that its target exists and is a rectangle.
+            let face = targets
+                .iter()
+                .find(|t| t.name == r.target)
+                .and_then(|t| t.surface.as_rectangle())
+                .map(|r| r.face);
+            NozzlePath::through(face.map(|f| raster_waypoints(&f, &r.plan)).unwrap_or_default(), roll)
+        }
+    }
+}

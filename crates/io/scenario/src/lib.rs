@@ -1,0 +1,39 @@
+//! # spraysim-scenario
+//!
+//! Scenario files for spraysim: TOML in, a validated, immutable [`Scenario`] out, and from it
+//! the engine's [`SimulationConfig`]. A file names a process preset in `[process]` and
+//! overrides any of its values; every other section has fixed defaults. Every value is checked
+//! as it is read, and every refusal names the file, the line and the key:
+//!
+//! ```text
+//! wall.toml:2: `simulation.dt` must be greater than 0 s, got -0.001
+//! ```
+//!
+//! ```
+//! use spraysim_scenario::Scenario;
+//!
+//! let scenario = Scenario::default_scene().with("simulation.duration", 0.05)?;
+//! let mut sim = scenario.build()?;
+//! sim.run(|_| {});
+//! assert!(sim.metrics().emitted.count > 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod build;
+mod error;
+mod mesh;
+mod overrides;
+mod params;
+mod presets;
+mod reader;
+mod scenario;
+mod tool_path;
+
+pub use error::ScenarioError;
+pub use mesh::{MAX_TRIANGLES, MeshError};
+pub use overrides::Value;
+pub use params::*;
+pub use presets::{SHOTCRETE_REBOUND_POLYNOMIAL, presets_toml};
+pub use reader::{Invalid, MAX_COORD};
+pub use scenario::{DEFAULT_SCENE, Scenario};
+pub use spraysim_engine::SimulationConfig;

@@ -1,0 +1,83 @@
+//! Triangle meshes from STL (binary or ASCII) and Wavefront OBJ files.
+
+use glam::{DMat3, DVec3};
+use spraysim_engine::collision::Triangle;
+use std::path::Path;
+
+/// Why a mesh could not be read.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct MeshError {
+    /// The file.
+    pub path: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// Most triangles a mesh may have.
+pub const MAX_TRIANGLES: usize = 10_000_000;
+
+/// Reads the triangles of an `.stl` or `.obj` file, each corner `c` mapped to
+/// `R · (c · scale) + translate` (m), `R` the rotation by `rotate` (degrees about x, then y,
+/// then z). Degenerate triangles are dropped.
+pub fn load(
+    path: &Path,
+    scale: f64,
+    rotate: [f64; 3],
+    translate: [f64; 3],
+) -> Result<Vec<Triangle>, MeshError> {
+    let err = |message: String| MeshError { path: path.display().to_string(), message };
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let corners: Vec<[DVec3; 3]> = match ext.as_deref() {
+        Some("stl") => {
+            let mut file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
+            let mesh = stl_io::read_stl(&mut file).map_err(|e| err(format!("not a valid STL file: {e}")))?;
+            let v =
+                |i: usize| mesh.vertices.get(i).map(|p| DVec3::new(p[0].into(), p[1].into(), p[2].into()));
+            mesh.faces
+                .iter()
+                .map(|f| Some([v(f.vertices[0])?, v(f.vertices[1])?, v(f.vertices[2])?]))
+                .collect::<Option<_>>()
+                .ok_or_else(|| err("a face refers to a missing vertex".into()))?
+        }
+        Some("obj") => {
+            let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+            let (models, _) =
+                tobj::load_obj(path, &options).map_err(|e| err(format!("not a valid OBJ file: {e}")))?;
+            let mut out = Vec::new();
+            for m in models {
+                let p = &m.mesh.positions;
+                let v = |i: u32| {
+                    let i = i as usize * 3;
+                    p.get(i..i + 3).map(|c| DVec3::new(c[0].into(), c[1].into(), c[2].into()))
+                };
+                for tri in m.mesh.indices.chunks_exact(3) {
+                    let t = [v(tri[0]), v(tri[1]), v(tri[2])];
+                    let [Some(a), Some(b), Some(c)] = t else {
+                        return Err(err("a face refers to a missing vertex".into()));
+                    };
+                    out.push([a, b, c]);
+                }
+            }
+            out
+        }
+        _ => return Err(err("unknown mesh format: use .stl or .obj".into())),
+    };
+    if corners.len() > MAX_TRIANGLES {
+        return Err(err(format!("has {} triangles, more than {MAX_TRIANGLES}", corners.len())));
+    }
+    let offset = DVec3::from_array(translate);
+    let [rx, ry, rz] = rotate.map(f64::to_radians);
+    let rotation = (rotate != [0.0; 3])
+        .then(|| DMat3::from_rotation_z(rz) * DMat3::from_rotation_y(ry) * DMat3::from_rotation_x(rx));
+    let place = |p: DVec3| match rotation {
+        Some(r) => r * (p * scale) + offset,
+        None => p * scale + offset,
+    };
+    let triangles: Vec<Triangle> =
+        corners.into_iter().filter_map(|[a, b, c]| Triangle::new(place(a), place(b), place(c))).collect();
+    if triangles.is_empty() {
+        return Err(err("holds no triangles".into()));
+    }
+    Ok(triangles)
+}

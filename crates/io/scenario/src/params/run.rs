@@ -1,0 +1,135 @@
+//! `[simulation]`, `[domain]` and `[output]`: time stepping, the box particles live in, and
+//! what a run writes.
+
+use crate::reader::{Check, Read, Section, bad, choices};
+use serde::Serialize;
+use spraysim_engine::motion::{GRAVITY, Integrator};
+
+choices!(Integrator {
+    "euler" => Integrator::Euler,
+    "semi_implicit_euler" => Integrator::SemiImplicitEuler,
+    "exact" => Integrator::Exact,
+});
+
+/// `[simulation]`: time stepping.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SimulationParams {
+    /// Time step Δt, s.
+    pub dt: f64,
+    /// Simulated duration, s.
+    pub duration: f64,
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// `"euler"`, `"semi_implicit_euler"` or `"exact"`.
+    pub integrator: Integrator,
+    /// Most impacts resolved for one particle within one step.
+    pub max_impacts_per_step: u32,
+    /// Gravitational acceleration, m/s².
+    pub gravity: [f64; 3],
+}
+
+/// Reads `[simulation]`; `drag` (1/m) decides whether the exact integrator applies.
+pub(crate) fn read_simulation(s: &Section<'_>, drag: f64) -> Read<SimulationParams> {
+    let dt = s.number("dt", Some(1e-3), Check::Positive(0.1), "s")?;
+    if dt < 1e-7 {
+        return bad(&s.key("dt"), format!("must be at least 1e-7 s, got {dt}"));
+    }
+    let duration = s.number("duration", Some(2.0), Check::Positive(1e6), "s")?;
+    if duration / dt > 1e9 {
+        return bad(&s.key("duration"), "needs more than 10⁹ steps at this dt");
+    }
+    let seed = s.integer("seed", Some(1), 0, i64::MAX)? as u64;
+    let integrator = s.choice("integrator", Some(Integrator::Euler))?;
+    if integrator == Integrator::Exact && drag != 0.0 {
+        return bad(
+            &s.key("integrator"),
+            "\"exact\" has no closed form with drag; set process.drag = 0 or use \"euler\" or \"semi_implicit_euler\"",
+        );
+    }
+    let p = SimulationParams {
+        dt,
+        duration,
+        seed,
+        integrator,
+        max_impacts_per_step: s.integer("max_impacts_per_step", Some(8), 1, 1000)? as u32,
+        gravity: s.numbers("gravity", Some(GRAVITY.to_array()), Check::Within(-100.0, 100.0), "m/s²")?,
+    };
+    s.finish("[simulation]")?;
+    Ok(p)
+}
+
+/// `[domain]`: particles that leave this axis-aligned box are retired.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DomainParams {
+    /// Lower corner, m.
+    pub min: [f64; 3],
+    /// Upper corner, m.
+    pub max: [f64; 3],
+}
+
+/// Reads `[domain]`; `default` is used when the file gives none.
+pub(crate) fn read_domain(
+    s: Option<&Section<'_>>,
+    default: impl FnOnce() -> DomainParams,
+) -> Read<DomainParams> {
+    let Some(s) = s else { return Ok(default()) };
+    let d = DomainParams { min: s.point("min", None)?, max: s.point("max", None)? };
+    if (0..3).any(|i| d.min[i] >= d.max[i]) {
+        return bad(&s.key("max"), "must be greater than domain.min along every axis");
+    }
+    s.finish("[domain]")?;
+    Ok(d)
+}
+
+/// Colour map of the heatmap images.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Colormap {
+    /// Perceptually uniform, colour-blind safe.
+    #[default]
+    Viridis,
+    /// High contrast rainbow.
+    Turbo,
+    /// Black to yellow through red.
+    Inferno,
+    /// White to blue.
+    Blues,
+}
+
+choices!(Colormap {
+    "viridis" => Colormap::Viridis,
+    "turbo" => Colormap::Turbo,
+    "inferno" => Colormap::Inferno,
+    "blues" => Colormap::Blues,
+});
+
+/// `[output]`: what a run writes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OutputParams {
+    /// Output directory, relative to the working directory.
+    pub directory: String,
+    /// Colour map of heatmaps.
+    pub colormap: Colormap,
+    /// Write PNG heatmaps.
+    pub images: bool,
+    /// Write `.npy` arrays.
+    pub arrays: bool,
+    /// Share of impacts written to `impacts.csv`, 0..1.
+    pub impact_log: f64,
+}
+
+/// Reads `[output]`.
+pub(crate) fn read_output(s: &Section<'_>) -> Read<OutputParams> {
+    let p = OutputParams {
+        directory: s.string("directory", Some("out"))?,
+        colormap: s.choice("colormap", Some(Colormap::Viridis))?,
+        images: s.boolean("images", true)?,
+        arrays: s.boolean("arrays", true)?,
+        impact_log: s.number("impact_log", Some(0.0), Check::Within(0.0, 1.0), "")?,
+    };
+    if p.directory.trim().is_empty() {
+        return bad(&s.key("directory"), "must not be empty");
+    }
+    s.finish("[output]")?;
+    Ok(p)
+}

@@ -1,0 +1,306 @@
+//! Reading a TOML table key by key. Every value is converted and checked as it is read, so a
+//! section comes out either whole and valid or as an error that names its key; keys nobody
+//! read are refused at the end.
+
+use std::cell::RefCell;
+use toml::{Table, Value};
+
+/// A value a scenario may not have: the dotted key (0-based indices) and what is wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("`{key}` {message}")]
+pub struct Invalid {
+    /// Dotted path of the key, e.g. `simulation.dt` or `target[0].up`.
+    pub key: String,
+    /// What is wrong with it.
+    pub message: String,
+}
+
+/// The result of reading one value.
+pub(crate) type Read<T> = Result<T, Invalid>;
+
+/// An [`Invalid`] for `key`.
+pub(crate) fn bad<T>(key: &str, message: impl Into<String>) -> Read<T> {
+    Err(Invalid { key: key.to_string(), message: message.into() })
+}
+
+/// Largest coordinate magnitude accepted anywhere, m: beyond any construction site.
+pub const MAX_COORD: f64 = 1e4;
+
+/// How a number is checked.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Check {
+    /// Within `[lo, hi]`.
+    Within(f64, f64),
+    /// Within `(0, hi]`.
+    Positive(f64),
+}
+
+/// A word a key takes, mapped to a value: the variants of a setting.
+pub(crate) trait Choice: Sized + Copy + 'static {
+    /// Every variant with its name in files.
+    const NAMES: &'static [(&'static str, Self)];
+
+    /// The name of this variant.
+    fn name(self) -> &'static str
+    where
+        Self: PartialEq,
+    {
+        Self::NAMES.iter().find(|(_, v)| *v == self).map_or("?", |(n, _)| n)
+    }
+}
+
+/// The kind of a TOML value, for messages.
+fn kind(v: &Value) -> String {
+    match v {
+        Value::String(s) => format!("the string {s:?}"),
+        Value::Integer(i) => format!("the integer {i}"),
+        Value::Float(f) => format!("the number {f}"),
+        Value::Boolean(b) => format!("the boolean {b}"),
+        Value::Datetime(d) => format!("the date {d}"),
+        Value::Array(a) => format!("an array of {} values", a.len()),
+        Value::Table(_) => "a table".into(),
+    }
+}
+
+/// One table of a scenario, being read.
+pub(crate) struct Section<'a> {
+    path: String,
+    table: &'a Table,
+    used: RefCell<Vec<&'a str>>,
+}
+
+impl<'a> Section<'a> {
+    /// The document's top level.
+    pub fn root(table: &'a Table) -> Self {
+        Section { path: String::new(), table, used: RefCell::new(Vec::new()) }
+    }
+
+    /// An empty section at `path` (a table the file leaves out).
+    pub fn empty<'b>(path: &str) -> Section<'b> {
+        static EMPTY: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+        Section {
+            path: path.to_string(),
+            table: EMPTY.get_or_init(Table::new),
+            used: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The dotted key of `k` in this section.
+    pub fn key(&self, k: &str) -> String {
+        if self.path.is_empty() { k.to_string() } else { format!("{}.{k}", self.path) }
+    }
+
+    /// True if the file gives `k` here.
+    pub fn has(&self, k: &str) -> bool {
+        self.table.contains_key(k)
+    }
+
+    fn raw(&self, k: &str) -> Option<&'a Value> {
+        let (key, value) = self.table.get_key_value(k)?;
+        self.used.borrow_mut().push(key.as_str());
+        Some(value)
+    }
+
+    /// A number (integers are accepted), or `default` when absent; checked finite and in range.
+    pub fn number(&self, k: &str, default: Option<f64>, check: Check, unit: &str) -> Read<f64> {
+        let key = self.key(k);
+        let x = match self.raw(k) {
+            None => default.map_or_else(|| bad(&key, "is required"), Ok)?,
+            Some(Value::Float(f)) => *f,
+            Some(Value::Integer(i)) => *i as f64,
+            Some(v) => return bad(&key, format!("must be a number ({unit}), got {}", kind(v))),
+        };
+        number_in(&key, x, check, unit)?;
+        Ok(x)
+    }
+
+    /// A fixed number of numbers, each checked.
+    pub fn numbers<const N: usize>(
+        &self,
+        k: &str,
+        default: Option<[f64; N]>,
+        check: Check,
+        unit: &str,
+    ) -> Read<[f64; N]> {
+        let key = self.key(k);
+        let Some(v) = self.raw(k) else {
+            return default.map_or_else(|| bad(&key, "is required"), Ok);
+        };
+        let what = || format!("must be an array of {N} numbers ({unit})");
+        let Value::Array(items) = v else { return bad(&key, format!("{}, got {}", what(), kind(v))) };
+        if items.len() != N {
+            return bad(&key, format!("{}, got {} values", what(), items.len()));
+        }
+        let mut out = [0.0; N];
+        for (o, item) in out.iter_mut().zip(items) {
+            *o = match item {
+                Value::Float(f) => *f,
+                Value::Integer(i) => *i as f64,
+                other => return bad(&key, format!("{}, got {} in it", what(), kind(other))),
+            };
+            number_in(&key, *o, check, unit)?;
+        }
+        Ok(out)
+    }
+
+    /// A list of numbers of any length in `1..=max`, each checked.
+    pub fn list(&self, k: &str, default: Option<Vec<f64>>, max: usize, check: Check) -> Read<Vec<f64>> {
+        let key = self.key(k);
+        let Some(v) = self.raw(k) else {
+            return default.map_or_else(|| bad(&key, "is required"), Ok);
+        };
+        let Value::Array(items) = v else {
+            return bad(&key, format!("must be an array of numbers, got {}", kind(v)));
+        };
+        if items.is_empty() || items.len() > max {
+            return bad(&key, format!("must have between 1 and {max} numbers, got {}", items.len()));
+        }
+        items
+            .iter()
+            .map(|item| {
+                let x = match item {
+                    Value::Float(f) => *f,
+                    Value::Integer(i) => *i as f64,
+                    other => {
+                        return bad(&key, format!("must be an array of numbers, got {} in it", kind(other)));
+                    }
+                };
+                number_in(&key, x, check, "")?;
+                Ok(x)
+            })
+            .collect()
+    }
+
+    /// A point, m: three finite numbers within [`MAX_COORD`] of the origin.
+    pub fn point(&self, k: &str, default: Option<[f64; 3]>) -> Read<[f64; 3]> {
+        self.numbers(k, default, Check::Within(-MAX_COORD, MAX_COORD), "m")
+    }
+
+    /// A direction: three finite numbers, not all (nearly) zero.
+    pub fn direction(&self, k: &str, default: Option<[f64; 3]>) -> Read<[f64; 3]> {
+        let d = self.numbers(k, default, Check::Within(-1e9, 1e9), "a direction")?;
+        if glam::DVec3::from_array(d).length() < 1e-9 {
+            return bad(&self.key(k), "must not be a zero-length vector");
+        }
+        Ok(d)
+    }
+
+    /// A whole number within `lo..=hi`.
+    pub fn integer(&self, k: &str, default: Option<i64>, lo: i64, hi: i64) -> Read<i64> {
+        let key = self.key(k);
+        let x = match self.raw(k) {
+            None => default.map_or_else(|| bad(&key, "is required"), Ok)?,
+            Some(Value::Integer(i)) => *i,
+            Some(v) => return bad(&key, format!("must be a whole number, got {}", kind(v))),
+        };
+        if !(lo..=hi).contains(&x) {
+            return bad(&key, format!("must be between {lo} and {hi}, got {x}"));
+        }
+        Ok(x)
+    }
+
+    /// A true or false.
+    pub fn boolean(&self, k: &str, default: bool) -> Read<bool> {
+        match self.raw(k) {
+            None => Ok(default),
+            Some(Value::Boolean(b)) => Ok(*b),
+            Some(v) => bad(&self.key(k), format!("must be true or false, got {}", kind(v))),
+        }
+    }
+
+    /// A string.
+    pub fn string(&self, k: &str, default: Option<&str>) -> Read<String> {
+        let key = self.key(k);
+        match self.raw(k) {
+            None => default.map(str::to_string).map_or_else(|| bad(&key, "is required"), Ok),
+            Some(Value::String(s)) => Ok(s.clone()),
+            Some(v) => bad(&key, format!("must be a string, got {}", kind(v))),
+        }
+    }
+
+    /// One of the words of `E`.
+    pub fn choice<E: Choice>(&self, k: &str, default: Option<E>) -> Read<E> {
+        let key = self.key(k);
+        let names = || E::NAMES.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
+        match self.raw(k) {
+            None => default.map_or_else(|| bad(&key, format!("is required: one of {}", names())), Ok),
+            Some(Value::String(s)) => E::NAMES
+                .iter()
+                .find(|(n, _)| n == s)
+                .map(|(_, v)| *v)
+                .map_or_else(|| bad(&key, format!("must be one of {}, got {s:?}", names())), Ok),
+            Some(v) => bad(&key, format!("must be one of {}, got {}", names(), kind(v))),
+        }
+    }
+
+    /// The sub-table `k`, if the file gives it.
+    pub fn table(&self, k: &str) -> Read<Option<Section<'a>>> {
+        match self.raw(k) {
+            None => Ok(None),
+            Some(Value::Table(t)) => {
+                Ok(Some(Section { path: self.key(k), table: t, used: RefCell::new(Vec::new()) }))
+            }
+            Some(v) => bad(&self.key(k), format!("must be a table, got {}", kind(v))),
+        }
+    }
+
+    /// The sub-table `k`, or an empty one.
+    pub fn table_or_empty(&self, k: &str) -> Read<Section<'a>> {
+        Ok(self.table(k)?.unwrap_or_else(|| Section::empty(&self.key(k))))
+    }
+
+    /// The array of tables `k` (`[[k]]`), each at `k[i]`.
+    pub fn tables(&self, k: &str) -> Read<Vec<Section<'a>>> {
+        let key = self.key(k);
+        match self.raw(k) {
+            None => Ok(Vec::new()),
+            Some(Value::Array(items)) => items
+                .iter()
+                .enumerate()
+                .map(|(i, item)| match item {
+                    Value::Table(t) => {
+                        Ok(Section { path: format!("{key}[{i}]"), table: t, used: RefCell::new(Vec::new()) })
+                    }
+                    other => bad(&format!("{key}[{i}]"), format!("must be a table, got {}", kind(other))),
+                })
+                .collect(),
+            Some(v) => bad(&key, format!("must be an array of tables ([[{k}]]), got {}", kind(v))),
+        }
+    }
+
+    /// Refuses every key of this section that nothing read; `context` says what the section
+    /// holds (e.g. `a circle emitter`), for the message.
+    pub fn finish(&self, context: &str) -> Read<()> {
+        let used = self.used.borrow();
+        match self.table.keys().find(|k| !used.contains(&k.as_str())) {
+            None => Ok(()),
+            Some(k) => bad(&self.key(k), format!("is not a key of {context} (see docs/scenario.md)")),
+        }
+    }
+}
+
+/// Checks a number read from `key`.
+pub(crate) fn number_in(key: &str, x: f64, check: Check, unit: &str) -> Read<()> {
+    if !x.is_finite() {
+        return bad(key, format!("must be a finite number, got {x}"));
+    }
+    let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    match check {
+        Check::Within(lo, hi) if x < lo || x > hi => {
+            bad(key, format!("must be between {lo} and {hi}{unit}, got {x}"))
+        }
+        Check::Positive(_) if x <= 0.0 => bad(key, format!("must be greater than 0{unit}, got {x}")),
+        Check::Positive(hi) if x > hi => bad(key, format!("must be between 0 and {hi}{unit}, got {x}")),
+        _ => Ok(()),
+    }
+}
+
+/// Declares the words of a setting: `impl Choice` and a `Serialize` that writes the word.
+macro_rules! choices {
+    ($ty:ty { $( $name:literal => $variant:expr ),* $(,)? }) => {
+        impl $crate::reader::Choice for $ty {
+            const NAMES: &'static [(&'static str, Self)] = &[ $( ($name, $variant) ),* ];
+        }
+    };
+}
+pub(crate) use choices;

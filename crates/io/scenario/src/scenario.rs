@@ -1,0 +1,330 @@
+//! The validated scenario: reading, resolving, overriding and writing it back.
+
+use crate::error::ScenarioError;
+use crate::overrides::{self, Value};
+use crate::params::*;
+use crate::reader::{Read, Section};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The built-in default scene: shotcrete onto a 2 m × 2 m wall from 1 m, with a floor that
+/// collects rebound.
+pub const DEFAULT_SCENE: &str = include_str!("../scenes/default.toml");
+
+/// Where a scenario's text came from.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Source {
+    /// The text as given, before overrides.
+    text: String,
+    /// Its name in errors.
+    origin: String,
+    /// The folder its relative paths start from.
+    base: PathBuf,
+    /// `(dotted key, TOML value)` overrides, in order.
+    overrides: Vec<(String, String)>,
+}
+
+/// A complete, validated scenario: every default filled in. It cannot be changed in place;
+/// [`Scenario::with`] makes a new one with a value overridden, checked like the file's. Two
+/// scenarios are equal when they resolve to the same values, whatever text they came from.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    source: Source,
+    simulation: SimulationParams,
+    process: ProcessParams,
+    emitter: EmitterParams,
+    nozzle: NozzleParams,
+    obstacles: Vec<ObstacleParams>,
+    targets: Vec<TargetParams>,
+    domain: DomainParams,
+    output: OutputParams,
+}
+
+impl PartialEq for Scenario {
+    fn eq(&self, o: &Scenario) -> bool {
+        self.simulation == o.simulation
+            && self.process == o.process
+            && self.emitter == o.emitter
+            && self.nozzle == o.nozzle
+            && self.obstacles == o.obstacles
+            && self.targets == o.targets
+            && self.domain == o.domain
+            && self.output == o.output
+    }
+}
+
+/// The scenario's sections in file order, for writing it out.
+#[derive(Serialize)]
+struct Resolved<'a> {
+    simulation: &'a SimulationParams,
+    process: &'a ProcessParams,
+    emitter: &'a EmitterParams,
+    nozzle: &'a NozzleParams,
+    #[serde(rename = "obstacle", skip_serializing_if = "<[_]>::is_empty")]
+    obstacles: &'a [ObstacleParams],
+    #[serde(rename = "target", skip_serializing_if = "<[_]>::is_empty")]
+    targets: &'a [TargetParams],
+    domain: &'a DomainParams,
+    output: &'a OutputParams,
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file. Paths it names (meshes, tool paths) are read
+    /// relative to the file's folder.
+    pub fn from_path(path: &Path) -> Result<Scenario, ScenarioError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| ScenarioError::Read { origin: origin.clone(), source })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
+        Scenario::parse(Source { text, origin, base, overrides: Vec::new() })
+    }
+
+    /// Parses and validates scenario text; `origin` names it in errors. Paths it names are read
+    /// relative to the working directory.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Scenario, ScenarioError> {
+        let base = std::path::absolute(".").unwrap_or_else(|_| PathBuf::from("."));
+        Scenario::parse(Source {
+            text: text.to_string(),
+            origin: origin.to_string(),
+            base,
+            overrides: Vec::new(),
+        })
+    }
+
+    /// The built-in default scene (see [`DEFAULT_SCENE`]).
+    pub fn default_scene() -> Scenario {
+        Scenario::from_toml(DEFAULT_SCENE, "<default scene>")
+            .unwrap_or_else(|e| panic!("the built-in default scene is invalid: {e}"))
+    }
+
+    /// This scenario with `key` (dotted, as in errors: `emitter.spawn_rate`,
+    /// `target[0].resolution`, `nozzle.raster.speed`) set to `value`, validated as if the file
+    /// had said so: a bad value is refused with the same message, naming the key.
+    pub fn with(&self, key: &str, value: impl Into<Value>) -> Result<Scenario, ScenarioError> {
+        self.with_all(&[(key.to_string(), value.into())])
+    }
+
+    /// [`Scenario::with`] for several keys at once, applied in order.
+    pub fn with_all(&self, overrides: &[(String, Value)]) -> Result<Scenario, ScenarioError> {
+        let mut source = self.source.clone();
+        source.overrides.extend(overrides.iter().map(|(k, v)| (k.clone(), v.to_toml())));
+        Scenario::parse(source)
+    }
+
+    /// [`Scenario::with`] from `KEY=VALUE` text, as the command line's `--set` gives it: the
+    /// value is TOML (`3`, `2e4`, `[0.0, 1.0, 0.0]`, `"painting"`), or a bare word taken as a
+    /// string (`painting`).
+    pub fn with_assignment(&self, assignment: &str) -> Result<Scenario, ScenarioError> {
+        let (key, value) = overrides::split(assignment)?;
+        self.with(&key, value)
+    }
+
+    fn parse(source: Source) -> Result<Scenario, ScenarioError> {
+        let text = overrides::apply(&source.text, &source.origin, &source.overrides)?;
+        let table: toml::Table = toml::from_str(&text).map_err(|e| ScenarioError::Syntax {
+            location: location(&source.origin, e.span().map(|s| line_of(&text, s.start))),
+            message: e.message().trim().to_string(),
+        })?;
+        Scenario::resolve(&table, &source).map_err(|inv| {
+            let names = |k: &str| {
+                inv.key == k || inv.key.starts_with(&format!("{k}.")) || inv.key.starts_with(&format!("{k}["))
+            };
+            let location = match source.overrides.iter().rev().find(|(k, _)| names(k)) {
+                Some((k, v)) => format!("--set {k}={v}"),
+                None => location(&source.origin, locate(&text, &inv.key)),
+            };
+            ScenarioError::Invalid { location, key: inv.key, message: inv.message }
+        })
+    }
+
+    fn resolve(table: &toml::Table, source: &Source) -> Read<Scenario> {
+        let root = Section::root(table);
+        let process = read::process(&root.table_or_empty("process")?, Preset::defaults)?;
+        let simulation = read::simulation(&root.table_or_empty("simulation")?, process.drag)?;
+        let emitter = read::emitter(
+            &root.table_or_empty("emitter")?,
+            &process.preset.emitter_defaults(),
+            simulation.duration,
+        )?;
+        let fallback = process.preset.defaults().impact.rebound_polynomial;
+        let mut names = Vec::new();
+        let targets = (root.tables("target")?.iter())
+            .map(|t| read::target(t, &mut names, &process.impact, &fallback))
+            .collect::<Read<Vec<_>>>()?;
+        let obstacles = (root.tables("obstacle")?.iter())
+            .map(|o| read::obstacle(o, &mut names, &process.impact, &fallback, &source.base))
+            .collect::<Read<Vec<_>>>()?;
+        let nozzle =
+            read::nozzle(&root.table_or_empty("nozzle")?, &source.base, &targets, simulation.duration)?;
+        let domain =
+            read::domain(root.table("domain")?.as_ref(), || default_domain(&nozzle, &targets, &obstacles))?;
+        let output = read::output(&root.table_or_empty("output")?)?;
+        root.finish("a scenario")?;
+        Ok(Scenario {
+            source: source.clone(),
+            simulation,
+            process,
+            emitter,
+            nozzle,
+            obstacles,
+            targets,
+            domain,
+            output,
+        })
+    }
+
+    /// The scenario as TOML with every value explicit; reading it back gives the same scenario.
+    pub fn to_toml(&self) -> String {
+        let resolved = Resolved {
+            simulation: &self.simulation,
+            process: &self.process,
+            emitter: &self.emitter,
+            nozzle: &self.nozzle,
+            obstacles: &self.obstacles,
+            targets: &self.targets,
+            domain: &self.domain,
+            output: &self.output,
+        };
+        toml::to_string(&resolved).unwrap_or_else(|e| panic!("a resolved scenario always serialises: {e}"))
+    }
+
+    /// Where the scenario came from (a file name, or the name given to [`Scenario::from_toml`]).
+    pub fn origin(&self) -> &str {
+        &self.source.origin
+    }
+
+    /// `[simulation]`.
+    pub fn simulation(&self) -> &SimulationParams {
+        &self.simulation
+    }
+
+    /// `[process]`.
+    pub fn process(&self) -> &ProcessParams {
+        &self.process
+    }
+
+    /// `[emitter]`.
+    pub fn emitter(&self) -> &EmitterParams {
+        &self.emitter
+    }
+
+    /// `[nozzle]`.
+    pub fn nozzle(&self) -> &NozzleParams {
+        &self.nozzle
+    }
+
+    /// The `[[obstacle]]`s, in file order.
+    pub fn obstacles(&self) -> &[ObstacleParams] {
+        &self.obstacles
+    }
+
+    /// The `[[target]]`s, in file order.
+    pub fn targets(&self) -> &[TargetParams] {
+        &self.targets
+    }
+
+    /// `[domain]`.
+    pub fn domain(&self) -> &DomainParams {
+        &self.domain
+    }
+
+    /// `[output]`.
+    pub fn output(&self) -> &OutputParams {
+        &self.output
+    }
+}
+
+/// Bounding box of the nozzle's position, the targets and the bounded obstacles, grown by 1 m.
+/// (The static default position counts even for a nozzle on a path, as it always has.)
+fn default_domain(
+    nozzle: &NozzleParams,
+    targets: &[TargetParams],
+    obstacles: &[ObstacleParams],
+) -> DomainParams {
+    let mut points: Vec<[f64; 3]> = Vec::new();
+    match &nozzle.motion {
+        NozzleMotion::Static { position, .. } | NozzleMotion::Circling { position, .. } => {
+            points.push(*position)
+        }
+        NozzleMotion::Waypoints { waypoints } => {
+            points.push(read::DEFAULT_POSITION);
+            points.extend(waypoints.iter().map(|w| w.position));
+        }
+        NozzleMotion::Raster { .. } => points.push(read::DEFAULT_POSITION),
+    }
+    for t in targets {
+        let TargetShape::Rectangle { center, size, .. } = &t.shape;
+        let r = size[0].hypot(size[1]) / 2.0;
+        points.push(center.map(|c| c - r));
+        points.push(center.map(|c| c + r));
+    }
+    for o in obstacles {
+        let (anchors, reach): (Vec<[f64; 3]>, f64) = match &o.shape {
+            ObstacleShape::Plane { .. } => continue,
+            ObstacleShape::Face { center, size, .. } => (vec![*center], size[0].hypot(size[1])),
+            ObstacleShape::Disk { center, radius, .. } | ObstacleShape::Sphere { center, radius } => {
+                (vec![*center], *radius)
+            }
+            ObstacleShape::Box { center, size, .. } => {
+                (vec![*center], size.iter().map(|v| v * v).sum::<f64>().sqrt())
+            }
+            ObstacleShape::Cylinder { start, end, radius } => (vec![*start, *end], *radius),
+            ObstacleShape::Mesh(m) => {
+                (m.triangles.iter().flat_map(|t| t.corners.map(|c| c.to_array())).collect(), 0.0)
+            }
+        };
+        for p in anchors {
+            points.push(p.map(|c| c - reach));
+            points.push(p.map(|c| c + reach));
+        }
+    }
+    let mut min = [f64::INFINITY; 3];
+    let mut max = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for i in 0..3 {
+            min[i] = min[i].min(p[i] - 1.0);
+            max[i] = max[i].max(p[i] + 1.0);
+        }
+    }
+    DomainParams { min, max }
+}
+
+fn location(origin: &str, line: Option<usize>) -> String {
+    match line {
+        Some(l) => format!("{origin}:{l}"),
+        None => origin.to_string(),
+    }
+}
+
+/// 1-based line number of byte offset `at`.
+fn line_of(text: &str, at: usize) -> usize {
+    text.as_bytes()[..at.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+}
+
+/// Line of the deepest part of `key` (e.g. `target[1].normal`) present in the file.
+fn locate(text: &str, key: &str) -> Option<usize> {
+    let doc = toml_edit::Document::parse(text).ok()?;
+    let mut table = doc.as_table();
+    let mut best = None;
+    for part in key.split('.') {
+        let (name, index) = match part.split_once('[') {
+            Some((n, rest)) => (n, rest.trim_end_matches(']').parse::<usize>().ok()),
+            None => (part, None),
+        };
+        let Some((k, item)) = table.get_key_value(name) else { break };
+        best = k.span().or(item.span()).or(best);
+        let next = match index {
+            Some(i) => item.as_array_of_tables().and_then(|a| a.get(i)),
+            None => item.as_table(),
+        };
+        match next {
+            Some(t) => {
+                best = t.span().or(best);
+                table = t;
+            }
+            None => break,
+        }
+    }
+    best.map(|s| line_of(text, s.start))
+}

@@ -1,0 +1,349 @@
+//! # spraysim-bench
+//!
+//! The documented reference scene for performance measurements, a timer over whole runs, and
+//! the table of the reference scene's scaling variants that `spraysim bench` prints.
+//!
+//! Reference scene: a 2 m × 2 m wall target at 1 m standoff with a 1024 × 1024 heightfield, a
+//! collector floor, a reinforcement mesh of 13 horizontal and 13 vertical bars (8 mm radius,
+//! 150 mm spacing, 50 mm in front of the wall), the shotcrete preset, a static nozzle pointed at
+//! the wall's centre, Δt = 1 ms (all adjustable through [`ReferenceScene`]).
+
+use spraysim_engine::deposit::RectangleSurface;
+use spraysim_engine::motion::Integrator;
+use spraysim_scenario::{Scenario, ScenarioError};
+use std::fmt::Write;
+use std::time::Instant;
+
+pub use spraysim_engine::SetupError;
+
+/// Why a benchmark could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// A setting is out of range.
+    #[error("{0}")]
+    Settings(String),
+    /// A benchmark scene is invalid.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// A simulation could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The table could not be written.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+}
+
+/// Knobs of the reference scene; [`ReferenceScene::default`] is the documented scene.
+#[derive(Clone, Debug)]
+pub struct ReferenceScene {
+    /// Wall heightfield cells per side.
+    pub resolution: u32,
+    /// Each of the 26 bars is split into this many collinear pieces (1: 26 bars; 20: 520), so
+    /// that the geometry stays the same while the primitive count grows.
+    pub pieces_per_bar: usize,
+    /// Particles per second.
+    pub spawn_rate: f64,
+    /// Simulated time, s.
+    pub duration: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Time step, s.
+    pub dt: f64,
+    /// Whether the rebar mesh stands in front of the wall.
+    pub rebar: bool,
+}
+
+impl Default for ReferenceScene {
+    fn default() -> Self {
+        ReferenceScene {
+            resolution: 1024,
+            pieces_per_bar: 1,
+            spawn_rate: 1e4,
+            duration: 1.0,
+            integrator: Integrator::Euler,
+            dt: 1e-3,
+            rebar: true,
+        }
+    }
+}
+
+impl ReferenceScene {
+    /// The scene as a scenario; an error names the knob that makes it invalid (a spawn rate
+    /// or duration that is not a positive number, say).
+    pub fn scenario(&self) -> Result<Scenario, ScenarioError> {
+        let nozzle = "[nozzle]\nposition = [-1.0, 0.0, 1.0]\naxis = [1.0, 0.0, 0.0]\n";
+        Scenario::from_toml(&self.toml(nozzle), "reference scene")
+    }
+
+    /// The scene as TOML, with `nozzle` (TOML) as its nozzle.
+    fn toml(&self, nozzle: &str) -> String {
+        let integrator = match self.integrator {
+            Integrator::Euler => "euler",
+            Integrator::SemiImplicitEuler => "semi_implicit_euler",
+            Integrator::Exact => "exact",
+        };
+        let mut t = format!(
+            r#"
+            [simulation]
+            dt = {dt}
+            integrator = "{integrator}"
+            duration = {duration}
+            [process]
+            preset = "shotcrete"
+            max_lifetime = 3.0
+            [emitter]
+            spawn_rate = {rate}
+            [[target]]
+            name = "wall"
+            center = [0.0, 0.0, 1.0]
+            normal = [-1.0, 0.0, 0.0]
+            up = [0.0, 0.0, 1.0]
+            size = [2.0, 2.0]
+            resolution = [{res}, {res}]
+            [[target]]
+            name = "floor"
+            role = "collector"
+            center = [-1.5, 0.0, 0.0]
+            normal = [0.0, 0.0, 1.0]
+            up = [1.0, 0.0, 0.0]
+            size = [4.0, 3.0]
+            resolution = [400, 300]
+            [domain]
+            min = [-3.0, -2.5, -0.5]
+            max = [0.5, 2.5, 3.0]
+            "#,
+            dt = self.dt,
+            duration = self.duration,
+            rate = self.spawn_rate,
+            res = self.resolution,
+        );
+        t.push_str(nozzle);
+        let n = if self.rebar { self.pieces_per_bar.max(1) } else { 0 };
+        let radius = 0.008;
+        // Vertical bars touch the wall's 50 mm plane; horizontal ones lie just in front of them.
+        for k in -6..=6 {
+            let offset = 0.15 * f64::from(k);
+            for p in 0..n {
+                let (a, b) = (2.0 * p as f64 / n as f64, 2.0 * (p + 1) as f64 / n as f64);
+                let _ = write!(
+                    t,
+                    "[[obstacle]]\nname = \"v{k}_{p}\"\nshape = \"cylinder\"\nstart = [-0.05, {offset}, {a}]\nend = [-0.05, {offset}, {b}]\nradius = {radius}\n\
+                     [[obstacle]]\nname = \"h{k}_{p}\"\nshape = \"cylinder\"\nstart = [-0.067, {y0}, {z}]\nend = [-0.067, {y1}, {z}]\nradius = {radius}\n",
+                    z = 1.0 + offset,
+                    y0 = a - 1.0,
+                    y1 = b - 1.0,
+                );
+            }
+        }
+        t
+    }
+}
+
+/// The reference scene with a 60 s robot raster over the wall at `spawn_rate` particles per
+/// second, cohesion analysed every 0.5 s: the optimisation-loop workload.
+pub fn raster_pass(spawn_rate: f64) -> Result<Scenario, ScenarioError> {
+    let scene = ReferenceScene { spawn_rate, duration: 60.0, ..ReferenceScene::default() };
+    let raster = "[nozzle.raster]\ntarget = \"wall\"\nsize = [1.6, 1.5]\nstandoff = 1.0\nspeed = 0.5\n\
+                  step_over = 0.1\nlead = 0.1\n[process.cohesion]\ninterval = 0.5\n";
+    Scenario::from_toml(&scene.toml(raster), "reference raster")
+}
+
+/// Mean time of one cohesion analysis of a `side × side` heightfield carrying a shotcrete
+/// layer (a noisy mound, over-loaded at its crest), s.
+pub fn time_cohesion(side: usize, repeats: usize) -> f64 {
+    use spraysim_engine::process::layer::{Strength, analyse};
+    let face =
+        spraysim_engine::collision::Face::new(glam::DVec3::Z, glam::DVec3::NEG_X, glam::DVec3::Z, [2.0, 2.0]);
+    let mut r = RectangleSurface::new(face, side, side, 0.0);
+    let f = &mut r.field;
+    let mut noise = 0x2545_F491_4F6C_DD1D_u64;
+    for c in 0..(side * side) as u32 {
+        let (u, v) = f.cell_center(c);
+        noise ^= noise << 13;
+        noise ^= noise >> 7;
+        noise ^= noise << 17;
+        let jitter = (noise >> 11) as f64 / (1u64 << 53) as f64;
+        let t = 0.3 * (-(u * u + v * v) / 0.18).exp() * (0.9 + 0.2 * jitter);
+        f.deposit(c, t * f.cell_area());
+    }
+    let s = Strength { tensile: 1500.0, shear: 5000.0, cohesion: 2000.0 };
+    let start = Instant::now();
+    let mut regions = 0;
+    for _ in 0..repeats {
+        regions += analyse(&r, 2300.0, spraysim_engine::motion::GRAVITY, &s).regions.len();
+    }
+    assert!(regions > 0, "the bench layer must be over-loaded somewhere");
+    start.elapsed().as_secs_f64() / repeats as f64
+}
+
+/// What one timed run measured.
+#[derive(Clone, Debug)]
+pub struct Measurement {
+    /// Wall-clock time of the run, s.
+    pub wall: f64,
+    /// Simulated time, s.
+    pub sim_time: f64,
+    /// Particle-steps: Σ over steps of the particles in flight at that step.
+    pub particle_steps: u64,
+    /// Particles that reached a final fate (stuck, left, expired).
+    pub retired: u64,
+    /// Peak resident memory of the process so far, bytes (Linux; 0 elsewhere).
+    pub peak_rss: u64,
+}
+
+impl Measurement {
+    /// Particle-steps per wall-clock second.
+    pub fn particle_steps_per_second(&self) -> f64 {
+        self.particle_steps as f64 / self.wall
+    }
+
+    /// Particles brought from emission to a final fate per wall-clock second.
+    pub fn particles_per_second(&self) -> f64 {
+        self.retired as f64 / self.wall
+    }
+
+    /// Simulated seconds per wall-clock second.
+    pub fn real_time_factor(&self) -> f64 {
+        self.sim_time / self.wall
+    }
+}
+
+/// Runs `scenario` to the end on `threads` threads (0: all cores) and times it.
+pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, BenchError> {
+    let mut sim = scenario.build()?;
+    sim.set_threads(threads)?;
+    let start = Instant::now();
+    sim.run(|_| {});
+    let wall = start.elapsed().as_secs_f64();
+    let m = sim.metrics();
+    Ok(Measurement {
+        wall,
+        sim_time: sim.time(),
+        particle_steps: sim.particle_steps(),
+        retired: m.emitted.count - m.fates.in_flight.count,
+        peak_rss: peak_rss(),
+    })
+}
+
+/// Runs `scenario` `repeats` times (at least once) after one untimed warm-up run of a tenth
+/// of its duration, and returns the run of median wall-clock time: a single run on a shared
+/// machine is easily 20 % off either way.
+pub fn measure_median(
+    scenario: &Scenario,
+    threads: usize,
+    repeats: usize,
+) -> Result<Measurement, BenchError> {
+    let s = scenario.simulation();
+    let warm = scenario.with("simulation.duration", (0.1 * s.duration).max(s.dt))?;
+    measure(&warm, threads)?;
+    let mut runs = (0..repeats.max(1)).map(|_| measure(scenario, threads)).collect::<Result<Vec<_>, _>>()?;
+    runs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+    Ok(runs.swap_remove(runs.len() / 2))
+}
+
+/// Peak resident set size of this process, bytes, from `/proc/self/status` (0 if unavailable).
+pub fn peak_rss() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
+                l.split_whitespace().nth(1).and_then(|kb| kb.parse::<u64>().ok()).map(|kb| kb * 1024)
+            })
+        })
+        .unwrap_or(0)
+}
+
+/// What [`run_matrix`] runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MatrixSettings {
+    /// Particles emitted per second in the throughput runs.
+    pub spawn_rate: f64,
+    /// Simulated seconds per run.
+    pub duration: f64,
+    /// Worker threads for the runs that do not vary it; 0 uses every core.
+    pub threads: usize,
+    /// Timed runs per row (after one untimed warm-up); the median is reported.
+    pub repeats: usize,
+}
+
+/// The reference scene and its scaling variants, each as a name, a scene and a thread count.
+fn variants(m: &MatrixSettings, all: usize) -> Vec<(String, ReferenceScene, usize)> {
+    let base = ReferenceScene { spawn_rate: m.spawn_rate, duration: m.duration, ..ReferenceScene::default() };
+    let exact = ReferenceScene { integrator: Integrator::Exact, ..base.clone() };
+    vec![
+        (format!("reference, {all} threads"), base.clone(), all),
+        ("reference, 1 thread".into(), base.clone(), 1),
+        (
+            "spawn rate ×10".into(),
+            ReferenceScene { spawn_rate: m.spawn_rate * 10.0, duration: m.duration / 10.0, ..base.clone() },
+            all,
+        ),
+        ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all),
+        ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all),
+        ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all),
+        ("exact integrator".into(), exact.clone(), all),
+        ("exact, Δt = 10 ms".into(), ReferenceScene { dt: 0.01, ..exact }, all),
+    ]
+}
+
+/// Times the reference scene and its scaling variants and writes a Markdown table to `out`,
+/// then the 60 s raster, the cohesion analysis and the storage per particle.
+pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(), BenchError> {
+    // Refused before anything runs or prints.
+    if !(m.spawn_rate.is_finite() && m.spawn_rate > 0.0) {
+        return Err(BenchError::Settings(format!(
+            "--spawn-rate must be a positive number of particles/s, got {}",
+            m.spawn_rate
+        )));
+    }
+    if !(m.duration.is_finite() && m.duration > 0.0) {
+        return Err(BenchError::Settings(format!(
+            "--duration must be a positive number of seconds, got {}",
+            m.duration
+        )));
+    }
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let all = if m.threads == 0 { cores } else { m.threads };
+    let runs = variants(m, all)
+        .into_iter()
+        .map(|(name, scene, threads)| Ok((name, scene.scenario()?, threads)))
+        .collect::<Result<Vec<_>, BenchError>>()?;
+    let raster = raster_pass(1e5)?;
+    writeln!(
+        out,
+        "reference scene, Δt = 1 ms, forward Euler, {:.0} particles/s for {} s unless noted; each row the median of {} timed runs after a warm-up\n",
+        m.spawn_rate, m.duration, m.repeats
+    )?;
+    writeln!(
+        out,
+        "| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |"
+    )?;
+    writeln!(out, "|---|---:|---:|---:|---:|---:|")?;
+    for (name, scenario, threads) in runs {
+        let r = measure_median(&scenario, threads, m.repeats)?;
+        writeln!(
+            out,
+            "| {name} | {:.3} | {:.3e} | {:.3e} | {:.3} | {:.0} |",
+            r.wall,
+            r.particle_steps_per_second(),
+            r.particles_per_second(),
+            r.real_time_factor(),
+            r.peak_rss as f64 / (1024.0 * 1024.0)
+        )?;
+    }
+    let r = measure(&raster, all)?;
+    writeln!(
+        out,
+        "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s: {:.2} s wall time ({:.1}× real time)",
+        r.wall,
+        r.real_time_factor()
+    )?;
+    let ms = 1e3 * time_cohesion(1024, 20);
+    writeln!(out, "cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms")?;
+    writeln!(
+        out,
+        "particle storage: {} bytes per particle slot",
+        spraysim_engine::particles::Swarm::BYTES_PER_PARTICLE
+    )?;
+    Ok(())
+}
