@@ -30,6 +30,23 @@ pub struct LayerContact {
     pub cell: u32,
 }
 
+/// A triangle mesh of a deposit surface, for drawing and export: vertices on the bare surface
+/// (or on the layer's top), the thickness at each vertex, and the cell each triangle belongs to.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SurfaceMesh {
+    /// Vertex positions, m.
+    pub positions: Vec<DVec3>,
+    /// Unit normals of the bare surface at the vertices, towards the receiving side.
+    pub normals: Vec<DVec3>,
+    /// Thickness at each vertex, m: the area-weighted mean of the cells around it.
+    pub thickness: Vec<f64>,
+    /// Triangles as vertex indices, counter-clockwise seen from the receiving side.
+    pub triangles: Vec<[u32; 3]>,
+    /// For each triangle, the cell whose data it shows (a cell of the mesh: with
+    /// downsampling, the first cell of the block it stands for).
+    pub cell: Vec<u32>,
+}
+
 /// How a surface's cells are laid out, for the writers of maps and meshes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Layout {
@@ -107,6 +124,10 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
 
     /// How the cells are laid out.
     fn layout(&self) -> Layout;
+
+    /// A triangle mesh of the surface, its vertices raised by the layer when `lift`; grids
+    /// are averaged down by a whole factor so that the mesh has at most about `max_cells` cells.
+    fn mesh(&self, lift: bool, max_cells: usize) -> SurfaceMesh;
 }
 
 /// Declares the built-in deposit surfaces: the [`Surface`] enum and its dispatch.
@@ -156,6 +177,7 @@ macro_rules! surfaces {
                 each!(self, s => s.neighbours(cell, visit))
             }
             fn layout(&self) -> Layout { each!(self, s => s.layout()) }
+            fn mesh(&self, lift: bool, max_cells: usize) -> SurfaceMesh { each!(self, s => s.mesh(lift, max_cells)) }
         }
     };
 }

@@ -1,6 +1,6 @@
 //! A rectangular face with a regular heightfield: walls, floors, ceilings, panels.
 
-use super::{DepositSurface, HeightField, LayerContact, Layout};
+use super::{DepositSurface, HeightField, LayerContact, Layout, SurfaceMesh};
 use crate::collision::{Face, Shape};
 use glam::DVec3;
 
@@ -132,6 +132,63 @@ impl DepositSurface for RectangleSurface {
     fn layout(&self) -> Layout {
         Layout::Grid { rows: self.field.rows(), cols: self.field.cols(), cell: self.field.cell_size() }
     }
+
+    fn mesh(&self, lift: bool, max_cells: usize) -> SurfaceMesh {
+        let (cols, rows) = (self.field.cols(), self.field.rows());
+        // The smallest whole factor that brings the cell count under the limit.
+        let mut k = 1;
+        while (cols.div_ceil(k) * rows.div_ceil(k)) > max_cells.max(1) {
+            k += 1;
+        }
+        let (mc, mr) = (cols.div_ceil(k), rows.div_ceil(k));
+        // Mean thickness of each block of k × k cells.
+        let t = self.field.thickness();
+        let mut block = vec![(0.0, 0.0); mc * mr];
+        for r in 0..rows {
+            for c in 0..cols {
+                let b = &mut block[(r / k) * mc + c / k];
+                *b = (b.0 + t[r * cols + c], b.1 + 1.0);
+            }
+        }
+        let block: Vec<f64> = block.iter().map(|&(s, n)| s / n).collect();
+        // Vertices at the block corners, each with the mean of the blocks that touch it.
+        let (w, h) = (2.0 * self.face.half_width, 2.0 * self.face.half_height);
+        let mut mesh = SurfaceMesh::default();
+        for vr in 0..=mr {
+            for vc in 0..=mc {
+                let (mut sum, mut n) = (0.0, 0.0);
+                for (br, bc) in [
+                    (vr.wrapping_sub(1), vc.wrapping_sub(1)),
+                    (vr.wrapping_sub(1), vc),
+                    (vr, vc.wrapping_sub(1)),
+                    (vr, vc),
+                ] {
+                    if br < mr && bc < mc {
+                        sum += block[br * mc + bc];
+                        n += 1.0;
+                    }
+                }
+                let thickness = sum / n;
+                let u = ((vc * k).min(cols) as f64 / cols as f64 - 0.5) * w;
+                let v = ((vr * k).min(rows) as f64 / rows as f64 - 0.5) * h;
+                mesh.positions.push(self.face.point(u, v, if lift { thickness } else { 0.0 }));
+                mesh.normals.push(self.face.normal);
+                mesh.thickness.push(thickness);
+            }
+        }
+        let at = |r: usize, c: usize| (r * (mc + 1) + c) as u32;
+        for br in 0..mr {
+            for bc in 0..mc {
+                // right × up = normal: (c, r) → (c+1, r) → (c+1, r+1) turns counter-clockwise
+                // seen from the normal's side.
+                let (a, b, c, d) = (at(br, bc), at(br, bc + 1), at(br + 1, bc + 1), at(br + 1, bc));
+                let cell = ((br * k) * cols + bc * k) as u32;
+                mesh.triangles.extend([[a, b, c], [a, c, d]]);
+                mesh.cell.extend([cell, cell]);
+            }
+        }
+        mesh
+    }
 }
 
 #[cfg(test)]
@@ -188,5 +245,32 @@ mod tests {
         assert_eq!(w.volume(), 0.0);
         assert_eq!(w.area_of(&[0, 1, 2]), 0.75);
         assert_eq!(w.layout(), Layout::Grid { rows: 2, cols: 4, cell: (0.5, 0.5) });
+    }
+
+    #[test]
+    fn the_mesh_covers_the_face_faces_the_spray_and_carries_the_layer() {
+        let mut w = wall();
+        w.deposit(5, 0.25 * 0.1); // 0.1 m on cell 5 (row 1, column 1)
+        let m = w.mesh(true, usize::MAX);
+        assert_eq!((m.positions.len(), m.triangles.len()), (15, 16));
+        // Every triangle turns counter-clockwise seen from the spray side (the face's normal).
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            assert!((b - a).cross(c - a).dot(w.face.normal) > 0.0, "{t:?}");
+        }
+        // The corners span the face; the vertices around cell 5 are raised along the normal.
+        let (lo, hi) = m
+            .positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
+        assert!((hi.y - lo.y - 2.0).abs() < 1e-12 && (hi.z - lo.z - 1.0).abs() < 1e-12);
+        let top = m.thickness.iter().copied().fold(0.0, f64::max);
+        assert!((top - 0.1 / 2.0).abs() < 1e-12, "a vertex shared by two cells averages them: {top}");
+        assert!(m.positions.iter().zip(&m.thickness).all(|(p, t)| (p.x + t).abs() < 1e-12));
+        assert_eq!(m.cell.iter().filter(|&&c| c == 5).count(), 2);
+        // Averaged down to at most 2 cells: blocks of 2 × 2.
+        let coarse = w.mesh(false, 2);
+        assert_eq!(coarse.triangles.len(), 4);
+        assert!(coarse.positions.iter().all(|p| p.x == 0.0), "not lifted");
     }
 }

@@ -48,7 +48,9 @@ impl Scale {
     }
 }
 
-fn color(map: Colormap, t: f64) -> Rgb<u8> {
+/// The colour of `t` (0..1, clamped) on colour map `map`: the scale of every heatmap, for
+/// anything that must match it (a 3D view, an exported mesh).
+pub fn color(map: Colormap, t: f64) -> Rgb<u8> {
     let g = match map {
         Colormap::Viridis => colorous::VIRIDIS,
         Colormap::Turbo => colorous::TURBO,

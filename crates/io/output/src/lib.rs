@@ -107,12 +107,16 @@ pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>
     result
 }
 
+/// The metrics of `sim` as `metrics.json` holds them.
+pub fn metrics_json(sim: &Simulation) -> Result<String, OutputError> {
+    serde_json::to_string_pretty(&sim.metrics())
+        .map_err(|e| OutputError::Io { path: "metrics.json".into(), source: e.into() })
+}
+
 /// Every output of `sim`, a run of `sc`, as (file name, contents).
 pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
     let mut files = Vec::new();
-    let metrics = serde_json::to_string_pretty(&sim.metrics())
-        .map_err(|e| OutputError::Io { path: "metrics.json".into(), source: e.into() })?;
-    files.push(("metrics.json".to_string(), metrics.into_bytes()));
+    files.push(("metrics.json".to_string(), metrics_json(sim)?.into_bytes()));
     let header = "# Resolved scenario written by spraysim: every default filled in.\n\
                   # Run it again with `spraysim run scenario.resolved.toml` for the same result.\n\n";
     files.push(("scenario.resolved.toml".into(), format!("{header}{}", sc.to_toml()).into_bytes()));
