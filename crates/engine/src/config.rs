@@ -75,6 +75,12 @@ pub struct TargetConfig {
     pub impact: ImpactModel,
     /// Wear by abrasive impacts, if any.
     pub erosion: Option<ErosionConfig>,
+    /// The specified thickness band `[min, max]`, m, whose share of the area the metrics
+    /// report.
+    pub tolerance: Option<[f64; 2]>,
+    /// Cells closer than this to the surface's edges or openings are left out of the thickness
+    /// statistics, m (0: none).
+    pub margin: f64,
 }
 
 /// Wear of a target by abrasive impacts: a coating (paint, epoxy) on a substrate (steel), each
@@ -222,6 +228,8 @@ impl SimulationConfig {
                 surface: Surface::Rectangle(RectangleSurface::new(face, 256, 256, 0.0)),
                 impact,
                 erosion: None,
+                tolerance: None,
+                margin: 0.0,
             }],
             obstacles: Vec::new(),
             domain: Aabb { min: DVec3::new(-2.0, -2.0, -1.0), max: DVec3::new(1.0, 2.0, 3.0) },

@@ -105,7 +105,8 @@ impl Fates {
     }
 }
 
-/// Statistics of a target's thickness over all of its cells, m.
+/// Statistics of a target's thickness over its region of interest (the whole surface, or
+/// what lies farther than a margin from its edges and openings), weighted by area.
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ThicknessStats {
@@ -121,25 +122,53 @@ pub struct ThicknessStats {
     pub max: f64,
     /// Coverage threshold, m.
     pub coverage_threshold: f64,
-    /// Share of cells at or above the coverage threshold (and above 0), 0..1.
+    /// Share of the area at or above the coverage threshold (and above 0), 0..1.
     pub covered_fraction: f64,
+    /// Area the statistics cover, m².
+    pub area: f64,
+    /// Cells closer than this to an edge or opening are left out, m.
+    pub margin: f64,
+    /// The specified thickness band `[min, max]`, m, if one was given.
+    pub tolerance: Option<[f64; 2]>,
+    /// Share of the area whose thickness lies within the band ("in spec"), 0..1.
+    pub in_tolerance: Option<f64>,
 }
 
 impl ThicknessStats {
-    /// Statistics of `t` (m) against `threshold` (m).
-    pub fn of(t: &[f64], threshold: f64) -> ThicknessStats {
-        let n = t.len().max(1) as f64;
-        let mean = t.iter().sum::<f64>() / n;
-        let var = t.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+    /// Statistics of `surface`'s thickness over the cells farther than `margin` (m) from its
+    /// edges, against the coverage `threshold` (m) and the `tolerance` band (m).
+    pub fn of(
+        surface: &impl DepositSurface,
+        threshold: f64,
+        margin: f64,
+        tolerance: Option<[f64; 2]>,
+    ) -> ThicknessStats {
+        let t = surface.thickness();
+        let cells: Vec<(f64, f64)> = (0..t.len() as u32)
+            .filter(|&c| margin <= 0.0 || surface.edge_distance(c) >= margin)
+            .map(|c| (t[c as usize], surface.cell_area(c)))
+            .filter(|&(_, a)| a > 0.0)
+            .collect();
+        let area: f64 = cells.iter().map(|c| c.1).sum();
+        let share = |keep: &dyn Fn(f64) -> bool| {
+            if area > 0.0 { cells.iter().filter(|c| keep(c.0)).map(|c| c.1).sum::<f64>() / area } else { 0.0 }
+        };
+        let mean = if area > 0.0 { cells.iter().map(|(x, a)| x * a).sum::<f64>() / area } else { 0.0 };
+        let var = if area > 0.0 { cells.iter().map(|(x, a)| (x - mean).powi(2) * a).sum::<f64>() / area } else { 0.0 };
         let std_dev = var.sqrt();
+        let (min, max) = cells.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| (l.min(c.0), h.max(c.0)));
         ThicknessStats {
             mean,
             std_dev,
             cv: if mean > 0.0 { std_dev / mean } else { 0.0 },
-            min: t.iter().copied().fold(f64::INFINITY, f64::min),
-            max: t.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            min: if cells.is_empty() { 0.0 } else { min },
+            max: if cells.is_empty() { 0.0 } else { max },
             coverage_threshold: threshold,
-            covered_fraction: t.iter().filter(|&&x| x > 0.0 && x >= threshold).count() as f64 / n,
+            covered_fraction: share(&|x| x > 0.0 && x >= threshold),
+            area,
+            margin,
+            tolerance,
+            in_tolerance: tolerance.map(|[lo, hi]| share(&|x| (lo..=hi).contains(&x))),
         }
     }
 }
@@ -333,7 +362,7 @@ impl Simulation {
             },
             transfer_efficiency: ratio(on_substrate, tally.emitted.volume),
             fates,
-            targets: targets.iter().map(|t| self.target_metrics(t)).collect(),
+            targets: targets.iter().zip(&self.config().targets).map(|(t, c)| self.target_metrics(t, c)).collect(),
             obstacles: obstacles
                 .iter()
                 .map(|o| ObstacleMetrics {
@@ -355,27 +384,31 @@ impl Simulation {
         }
     }
 
-    fn target_metrics(&self, t: &Target) -> TargetMetrics {
+    fn target_metrics(&self, t: &Target, tc: &crate::config::TargetConfig) -> TargetMetrics {
         let c = self.config();
-        let cells = t.failure_mask.len().max(1) as f64;
-        let share = |m: u8| t.failure_mask.iter().filter(|&&x| x == m).count() as f64 / cells;
-        let area_cm2 = cells * t.surface.cell_area(0) * 1e4;
-        let erosion = t.erosion.as_ref().map(|e| {
-            let eroded = (0..e.coating.len()).map(|c| e.eroded(c));
-            ErosionStats {
-                mean_depth: eroded.clone().sum::<f64>() / cells,
-                max_depth: eroded.fold(0.0, f64::max),
-                coating: e.initial_coating,
-                coating_left_mean: e.coating.iter().sum::<f64>() / cells,
-                cleaned_fraction: (e.initial_coating > 0.0)
-                    .then(|| e.coating.iter().filter(|&&c| c <= 0.0).count() as f64 / cells),
-                substrate_mean_depth: e.substrate.iter().sum::<f64>() / cells,
-                substrate_max_depth: e.substrate.iter().copied().fold(0.0, f64::max),
-            }
+        let s = &t.surface;
+        let count = s.thickness().len() as u32;
+        let area: f64 = (0..count).map(|k| s.cell_area(k)).sum::<f64>().max(f64::MIN_POSITIVE);
+        // Area-weighted shares and means over the whole surface.
+        let share = |keep: &dyn Fn(usize) -> bool| {
+            (0..count).filter(|&k| keep(k as usize)).map(|k| s.cell_area(k)).sum::<f64>() / area
+        };
+        let mean = |value: &dyn Fn(usize) -> f64| (0..count).map(|k| value(k as usize) * s.cell_area(k)).sum::<f64>() / area;
+        let erosion = t.erosion.as_ref().map(|e| ErosionStats {
+            mean_depth: mean(&|k| e.eroded(k)),
+            max_depth: (0..e.coating.len()).map(|k| e.eroded(k)).fold(0.0, f64::max),
+            coating: e.initial_coating,
+            coating_left_mean: mean(&|k| e.coating[k]),
+            cleaned_fraction: (e.initial_coating > 0.0).then(|| share(&|k| e.coating[k] <= 0.0)),
+            substrate_mean_depth: mean(&|k| e.substrate[k]),
+            substrate_max_depth: e.substrate.iter().copied().fold(0.0, f64::max),
         });
         let sag = c.sag_threshold;
-        let sag_risk_fraction =
-            (sag > 0.0).then(|| t.sag_risk(sag).iter().map(|&m| f64::from(m)).sum::<f64>() / cells);
+        let sag_risk_fraction = (sag > 0.0).then(|| {
+            let risk = t.sag_risk(sag);
+            share(&|k| risk[k] > 0)
+        });
+        let hits: f64 = s.hits().iter().map(|&h| f64::from(h)).sum();
         TargetMetrics {
             name: t.name.clone(),
             role: t.role,
@@ -390,12 +423,12 @@ impl Simulation {
                 .flatten(),
             stuck_on_back: t.stuck_back,
             layer_volume: t.surface.volume(),
-            thickness: ThicknessStats::of(t.surface.thickness(), c.material.coverage_threshold),
+            thickness: ThicknessStats::of(s, c.material.coverage_threshold, tc.margin, tc.tolerance),
             received: t.received,
             detached: t.detached,
-            at_risk_fraction: share(1),
-            failed_fraction: share(2),
-            hits_per_cm2: t.surface.hits().iter().map(|&h| f64::from(h)).sum::<f64>() / area_cm2,
+            at_risk_fraction: share(&|k| t.failure_mask[k] == 1),
+            failed_fraction: share(&|k| t.failure_mask[k] == 2),
+            hits_per_cm2: hits / (area * 1e4),
             erosion,
             sag_risk_fraction,
         }

@@ -25,8 +25,11 @@ pub struct Target {
     pub role: Role,
     /// Geometry and deposited layer.
     pub surface: Surface,
-    /// The surface's index in the collision scene.
+    /// The index in the collision scene of the surface's first piece; its pieces follow in
+    /// order.
     pub surface_id: SurfaceId,
+    /// How many pieces the surface has in the scene.
+    pub pieces: u32,
     /// Impacts on either side.
     pub hits: u64,
     /// Particles stuck on the front (all in the deposit), adhering or loose.

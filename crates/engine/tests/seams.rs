@@ -120,7 +120,7 @@ fn a_rebound_law_and_an_obstacle_shape_from_outside_the_engine_run_in_a_scene() 
     assert_eq!(m.fates.total().count, m.emitted.count);
     // Nothing reaches the floor under the ledge: its shadow is empty.
     let floor = &sim.targets()[0].surface;
-    assert!(floor.thickness()[floor.cell_at(DVec3::new(0.0, 0.0, 0.0)) as usize] == 0.0);
+    assert!(floor.thickness()[floor.cell_at(0, DVec3::new(0.0, 0.0, 0.0)) as usize] == 0.0);
     // The same scene with every impact rebounding (threshold 0): the law really is consulted.
     let always = Shared::new(Threshold { critical: -1.0 });
     let mut sim = Simulation::new(scene(always, 0.2)).expect("valid");
@@ -207,7 +207,7 @@ fn the_nozzle_path_can_be_replaced_between_steps() {
         (0..f.thickness().len() as u32)
             .filter(|&c| {
                 let (u, v) = f.cell_center(c);
-                let p = floor.face.point(u, v, 0.0);
+                let p = floor.chart.point(u, v, 0.0);
                 (p.x - x0).hypot(p.y) < 0.4
             })
             .map(|c| f.thickness()[c as usize] * f.cell_area())

@@ -4,7 +4,9 @@ use glam::DVec3;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use spraysim::collision::{Cylinder, Disk, Face, OrientedBox, Plane, Primitive, Shape, Sphere, Triangle};
+use spraysim::collision::{
+    Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Primitive, Shape, Sphere, Triangle,
+};
 
 /// Samples per segment of the brute-force reference.
 const SAMPLES: usize = 20_000;
@@ -76,6 +78,36 @@ fn brute_force(shape: &Shape, p0: DVec3, p1: DVec3) -> Option<f64> {
             }
             None
         }
+        Shape::Shell(sh) => {
+            // Distance to the axis against the radius, and the bounds in angle and length.
+            let f = |q: DVec3| {
+                let d = q - sh.center;
+                (d - sh.axis * d.dot(sh.axis)).length() - sh.radius
+            };
+            let mut prev = f(p0);
+            for k in 1..=SAMPLES {
+                let d = f(at(k));
+                if prev.signum() != d.signum() || d == 0.0 {
+                    // The distance to the axis is not linear along the segment: bisect.
+                    let (mut a, mut b) = ((k - 1) as f64 / SAMPLES as f64, k as f64 / SAMPLES as f64);
+                    for _ in 0..60 {
+                        let m = 0.5 * (a + b);
+                        if f(p0.lerp(p1, m)).signum() == prev.signum() {
+                            a = m;
+                        } else {
+                            b = m;
+                        }
+                    }
+                    let t = 0.5 * (a + b);
+                    let (theta, z, _) = sh.coordinates(p0.lerp(p1, t));
+                    if sh.covers(theta, z) {
+                        return Some(t);
+                    }
+                }
+                prev = d;
+            }
+            None
+        }
         _ => (0..=SAMPLES).find(|&k| shape.contains(at(k))).map(|k| k as f64 / SAMPLES as f64),
     }
 }
@@ -114,13 +146,26 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
             b: c + rand_dir(rng) * rng.random_range(0.1..1.0),
             radius: rng.random_range(0.02..0.4),
         }),
-        _ => loop {
+        6 => loop {
             if let Some(t) =
                 Triangle::new(c + rand_vec(rng, 0.9), c + rand_vec(rng, 0.9), c + rand_vec(rng, 0.9))
             {
                 break Shape::Triangle(t);
             }
         },
+        _ => {
+            let start = rng.random_range(-3.0..3.0);
+            let span = rng.random_range(0.5..std::f64::consts::TAU);
+            let shell = CylinderShell::new(
+                c,
+                rand_dir(rng),
+                rand_dir(rng),
+                rng.random_range(0.1..0.8),
+                rng.random_range(0.2..1.5),
+                [start, start + span],
+            );
+            Shape::Shell(shell.unwrap_or_else(|| panic!("a valid shell")))
+        }
     }
 }
 
@@ -157,8 +202,10 @@ fn check_against_brute_force(kind: usize) {
             (None, Some(t)) => panic!("{shape:?}: missed a hit at t = {t} from {p0} to {p1}"),
             (Some(h), None) => {
                 // Thin surfaces: the sign-change reference is exact, so this is a false hit.
-                let thin =
-                    matches!(shape, Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) | Shape::Triangle(_));
+                let thin = matches!(
+                    shape,
+                    Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) | Shape::Triangle(_) | Shape::Shell(_)
+                );
                 assert!(!thin, "{shape:?}: a hit at t = {} the reference does not see", h.t);
                 // Solids: a grazing chord shorter than the sampling step.
                 let ahead = p0.lerp(p1, (h.t + 2.0 * step).min(1.0));
@@ -207,6 +254,11 @@ fn cylinder_matches_brute_force() {
 #[test]
 fn triangle_matches_brute_force() {
     check_against_brute_force(6);
+}
+
+#[test]
+fn cylinder_shell_matches_brute_force() {
+    check_against_brute_force(7);
 }
 
 #[test]
@@ -280,12 +332,14 @@ fn indexed_scene_query_matches_the_linear_scan() {
             .map(|i| SurfaceRef {
                 shape: random_shape(&mut rng, 1 + i % 5),
                 kind: SurfaceKind::Obstacle(i),
+                piece: 0,
                 impact: 0,
                 layer: 0.0,
             })
             .chain(std::iter::once(SurfaceRef {
                 shape: Shape::Plane(Plane { point: DVec3::new(0.0, 0.0, -0.9), normal: DVec3::Z }),
                 kind: SurfaceKind::Obstacle(200),
+                piece: 0,
                 impact: 0,
                 layer: 0.0,
             }))
@@ -317,7 +371,7 @@ fn indexed_scene_query_matches_the_linear_scan() {
 fn arc_hits_match_a_dense_polyline_for_every_primitive() {
     use spraysim::collision::Arc;
     const CHORDS: usize = 4000;
-    for kind in 0..7 {
+    for kind in 0..8 {
         let mut rng = ChaCha8Rng::seed_from_u64(kind as u64 + 500);
         let mut hits = 0;
         for _ in 0..2500 {

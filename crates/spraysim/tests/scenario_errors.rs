@@ -62,7 +62,9 @@ fn line_of(text: &str, needle: &str) -> usize {
 #[test]
 fn the_good_scenario_is_accepted() {
     let sc = Scenario::from_toml(GOOD, "scene.toml").unwrap_or_else(|e| panic!("{e}"));
-    let spraysim::scenario::TargetShape::Rectangle { resolution, .. } = sc.targets()[0].shape;
+    let spraysim::scenario::TargetShape::Rectangle { resolution, .. } = sc.targets()[0].shape else {
+        panic!("a rectangle")
+    };
     assert_eq!(resolution, [64, 64]);
     assert_eq!(sc.emitter().spawn_rate, 1000.0);
     assert_eq!(sc.emitter().speed, [20.0, 30.0]); // from the preset

@@ -232,10 +232,10 @@ fn dispatch(command: Command) -> Result<()> {
                 let duration = sc.simulation().duration;
                 let ends = match sc.spraying_ends() {
                     Some(t) if t < duration => {
-                        format!("# Spraying ends at {t} s, before the end of the run at {duration} s.\n")
+                        format!("# Spraying ends at {t:.3} s, before the end of the run at {duration} s.\n")
                     }
                     Some(t) => {
-                        format!("# Spraying would end at {t} s, after the end of the run at {duration} s.\n")
+                        format!("# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n")
                     }
                     None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
                 };

@@ -8,13 +8,15 @@
 //! the side the particle came from.
 
 mod arc;
-mod broad_phase;
+pub(crate) mod broad_phase;
 mod scene;
 pub mod shapes;
 
 pub use arc::{Arc, Small, roots};
 pub use scene::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
-pub use shapes::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Primitive, Shape, Sphere, Triangle};
+pub use shapes::{
+    Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Primitive, Shape, Sphere, Triangle,
+};
 
 use glam::DVec3;
 

@@ -32,6 +32,8 @@ pub struct SurfaceRef {
     pub shape: Shape,
     /// Target or obstacle it belongs to.
     pub kind: SurfaceKind,
+    /// Which piece of its owner it is (a mesh's triangle; 0 for a single shape).
+    pub piece: u32,
     /// Index into the simulation's impact models.
     pub impact: usize,
     /// How far in front of a face (along its normal) a deposited layer may reach, m; the face's

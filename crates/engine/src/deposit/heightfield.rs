@@ -1,7 +1,7 @@
 //! A regular grid of deposited thicknesses over a rectangle: splatting, the layer's slope, and
 //! where a path enters the layer.
 
-use crate::collision::Face;
+use super::Chart;
 use glam::DVec3;
 
 /// Side of the blocks whose maximum thickness is kept, cells.
@@ -45,6 +45,8 @@ pub struct HeightField {
     reach: (usize, usize),
     /// One bit per cell: its thickness changed since the last `take_changed`.
     changed: Vec<u64>,
+    /// Per cell, true where the surface is cut away (an opening); empty when none is.
+    hole: Vec<bool>,
 }
 
 impl HeightField {
@@ -77,7 +79,21 @@ impl HeightField {
             reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
             changed: vec![0; (cols * rows).div_ceil(64)],
+            hole: Vec::new(),
         }
+    }
+
+    /// Marks the cells cut away (one flag per cell): they receive no deposit, count in no mean,
+    /// and a layer never stands in them.
+    pub fn set_holes(&mut self, hole: Vec<bool>) {
+        debug_assert_eq!(hole.len(), self.thickness.len());
+        self.hole = if hole.iter().any(|&h| h) { hole } else { Vec::new() };
+    }
+
+    /// True if `cell` is cut away.
+    #[inline]
+    pub fn is_hole(&self, cell: u32) -> bool {
+        self.hole.get(cell as usize).copied().unwrap_or(false)
     }
 
     /// Number of columns.
@@ -183,13 +199,18 @@ impl HeightField {
     pub fn deposit(&mut self, cell: u32, volume: f64) {
         let (cols, rows) = (self.cols as isize, self.rows as isize);
         let (row, col) = (cell as isize / cols, cell as isize % cols);
-        let in_grid =
-            |&&(i, j): &&(isize, isize)| (0..cols).contains(&(col + i)) && (0..rows).contains(&(row + j));
-        let n = self.splat.iter().filter(in_grid).count();
+        // The struck cell always takes its share (it is never a hole when struck).
+        let hole = std::mem::take(&mut self.hole);
+        let takes = |i: isize, j: isize| {
+            (0..cols).contains(&(col + i))
+                && (0..rows).contains(&(row + j))
+                && ((i, j) == (0, 0) || !hole.get(((row + j) * cols + col + i) as usize).copied().unwrap_or(false))
+        };
+        let n = self.splat.iter().filter(|&&(i, j)| takes(i, j)).count();
         let added = volume / (n as f64 * self.cell_area());
         for k in 0..self.splat.len() {
             let (i, j) = self.splat[k];
-            if !(0..cols).contains(&(col + i)) || !(0..rows).contains(&(row + j)) {
+            if !takes(i, j) {
                 continue;
             }
             let c = (row + j) as usize * self.cols + (col + i) as usize;
@@ -197,10 +218,11 @@ impl HeightField {
             self.raise_bounds(c, self.thickness[c]);
             self.mark(c);
         }
+        self.hole = hole;
     }
 
     /// Mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s (all
-    /// cells have the same area), m.
+    /// cells have the same area; holes do not count), m.
     pub fn mean_around(&self, cell: u32, radius: f64) -> f64 {
         let (dx, dy) = self.cell_size();
         let (rx, ry) = ((radius / dx).floor() as isize, (radius / dy).floor() as isize);
@@ -213,13 +235,14 @@ impl HeightField {
         for j in (row - ry).max(0)..=(row + ry).min(rows - 1) {
             for i in (col - rx).max(0)..=(col + rx).min(cols - 1) {
                 let (x, y) = ((i - col) as f64 * dx, (j - row) as f64 * dy);
-                if x * x + y * y <= radius * radius {
-                    sum += self.thickness[(j * cols + i) as usize];
+                let c = (j * cols + i) as usize;
+                if x * x + y * y <= radius * radius && !self.is_hole(c as u32) {
+                    sum += self.thickness[c];
                     n += 1.0;
                 }
             }
         }
-        sum / n
+        if n > 0.0 { sum / n } else { 0.0 }
     }
 
     /// An upper bound of every cell's thickness, m.
@@ -241,8 +264,8 @@ impl HeightField {
     }
 
     /// Largest block maximum over the 3 × 3 blocks around the one under `p`, m.
-    fn block_max_around(&self, face: &Face, p: DVec3) -> f64 {
-        let (u, v) = face.local(p);
+    fn block_max_around(&self, chart: &impl Chart, p: DVec3) -> f64 {
+        let (u, v, _) = chart.local(p);
         let cell = self.cell_at(u, v) as usize;
         let (r, c) = ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK);
         let block_rows = self.block_max.len() / self.block_cols;
@@ -255,10 +278,10 @@ impl HeightField {
         top
     }
 
-    /// Largest block maximum over the blocks that the segment's footprint on `face` touches, m.
-    fn block_max_under(&self, face: &Face, p0: DVec3, p1: DVec3) -> f64 {
+    /// Largest block maximum over the blocks that the segment's footprint touches, m.
+    fn block_max_under(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> f64 {
         let block = |p: DVec3| {
-            let (u, v) = face.local(p);
+            let (u, v, _) = chart.local(p);
             let cell = self.cell_at(u, v) as usize;
             ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK)
         };
@@ -272,62 +295,66 @@ impl HeightField {
         top
     }
 
-    /// Where the segment `p0 → p1` first enters the layer on the front of `face` (the face this
-    /// field lies on). The layer is
-    /// the face raised by each cell's thickness; a segment that starts inside it enters only
-    /// after leaving it. `None` if it does not enter before reaching the bare face.
+    /// Where the segment `p0 → p1` first enters the layer on the receiving side of the bare
+    /// surface that `chart` unrolls this field onto. The layer is the surface raised by each
+    /// cell's thickness; a segment that starts inside it enters only after leaving it. `None`
+    /// if it does not enter before reaching the bare surface.
     #[inline]
-    pub fn layer_contact(&self, face: &Face, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
-        let h0 = (p0 - face.center).dot(face.normal);
-        let h1 = (p1 - face.center).dot(face.normal);
-        // Most paths pass well above the thickest cell or behind the face: that answer is
+    pub fn layer_contact(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
+        let h0 = chart.local(p0).2;
+        let h1 = chart.local(p1).2;
+        // Most paths pass well above the thickest cell or behind the surface: that answer is
         // inlined, the search is not.
-        if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) > self.max_thickness {
+        if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) - chart.sag(p0, p1) > self.max_thickness {
             return None;
         }
-        self.layer_contact_near(face, p0, p1, h0, h1)
+        self.layer_contact_near(chart, p0, p1, h0, h1)
     }
 
     /// [`HeightField::layer_contact`] for a path that reaches below the thickest cell, with
-    /// `h0` and `h1` its heights above the face at its ends, m.
+    /// `h0` and `h1` its heights above the surface at its ends, m.
     #[inline(never)]
     fn layer_contact_near(
         &self,
-        face: &Face,
+        chart: &impl Chart,
         p0: DVec3,
         p1: DVec3,
         h0: f64,
         h1: f64,
     ) -> Option<LayerContact> {
         // The thickest layer under the segment, from the blocks its footprint covers.
-        let top = self.block_max_under(face, p0, p1);
-        if h0.min(h1) > top {
+        let top = self.block_max_under(chart, p0, p1);
+        let sag = chart.sag(p0, p1);
+        if h0.min(h1) - sag > top {
             return None;
         }
-        // The part of the segment within the slab between the face and (just above) the thickest
-        // cell, so that a segment from above starts outside the layer even over its peak.
+        // The part of the segment within the slab between the surface and (just above) the
+        // thickest cell, so that a segment from above starts outside the layer even over its
+        // peak. On a curved surface the chord may dip by `sag` between its ends: the whole
+        // segment is searched then.
         let roof = top * (1.0 + 1e-9);
-        let s_start = if h0 > roof { (h0 - roof) / (h0 - h1) } else { 0.0 };
-        let s_end = if h1 < 0.0 { h0 / (h0 - h1) } else { 1.0 };
-        // The column over the point at fraction `s`, if it lies over the face.
-        let column = |s: f64| -> Option<u32> {
-            let (u, v) = face.local(p0.lerp(p1, s));
-            (u.abs() <= face.half_width && v.abs() <= face.half_height).then(|| self.cell_at(u, v))
+        let s_start = if h0 > roof && sag == 0.0 { (h0 - roof) / (h0 - h1) } else { 0.0 };
+        let s_end = if h1 < 0.0 && sag == 0.0 { h0 / (h0 - h1) } else { 1.0 };
+        // The column over the point at fraction `s`, if it lies over the surface.
+        let column = |s: f64| -> Option<(u32, f64)> {
+            let (u, v, h) = chart.local(p0.lerp(p1, s));
+            chart.covers(u, v).then(|| (self.cell_at(u, v), h))
         };
+        // On a flat surface the slab already ends at the surface; a curved one's search runs
+        // on, and a point behind the surface is not in the layer.
         let inside = |s: f64| -> Option<u32> {
-            let cell = column(s)?;
-            let q = p0.lerp(p1, s);
-            ((q - face.center).dot(face.normal) <= self.thickness[cell as usize]).then_some(cell)
+            let (cell, h) = column(s)?;
+            let behind = sag > 0.0 && h < 0.0;
+            (h <= self.thickness[cell as usize] && !behind && !self.is_hole(cell)).then_some(cell)
         };
-        // March at half a cell along the face.
+        // March at half a cell along the surface.
         let (dx, dy) = self.cell_size();
-        let along = (p1 - p0) - face.normal * (h1 - h0);
-        let span = along.length() * (s_end - s_start);
+        let span = chart.along(p0, p1) * (s_end - s_start);
         let n = ((span / (0.5 * dx.min(dy))).ceil() as usize).clamp(1, 1 << 16);
         // Skipping relies on steps of at most half a cell, which the clamp of `n` could break.
-        let fine = span <= n as f64 * 0.5 * dx.min(dy);
+        let fine = span <= n as f64 * 0.5 * dx.min(dy) && sag == 0.0;
         let sample = |k: usize| s_start + (s_end - s_start) * k as f64 / n as f64;
-        let height = |s: f64| (p0.lerp(p1, s) - face.center).dot(face.normal);
+        let height = |s: f64| chart.local(p0.lerp(p1, s)).2;
         let mut was_inside = inside(s_start).is_some();
         let mut prev = s_start;
         let mut k = 1;
@@ -337,7 +364,7 @@ impl HeightField {
             // they would all test outside, so the march finds the same entry, only sooner.
             let run = SKIP_RUN.min(n - k);
             if fine && !was_inside && run >= 4 {
-                let bound = self.block_max_around(face, p0.lerp(p1, s)) + SKIP_MARGIN;
+                let bound = self.block_max_around(chart, p0.lerp(p1, s)) + SKIP_MARGIN;
                 if height(s) > bound && height(sample(k + run)) > bound {
                     prev = sample(k + run);
                     k += run + 1;
@@ -350,12 +377,14 @@ impl HeightField {
                 // `b` stays inside throughout the bisection.
                 let entered = inside(b)?;
                 let (gu, gv) = self.gradient(entered);
-                let normal = (face.normal - face.right * gu - face.up * gv).normalize();
+                let (u, v, _) = chart.local(p0.lerp(p1, b));
+                let (n, right, up) = chart.frame(u, v);
+                let normal = (n - right * gu - up * gv).normalize();
                 // Through the side of a taller column, the material settles in the column the
                 // particle came down (as in ballistic deposition); stacking it on the taller one
                 // would let every column that gets ahead catch its neighbours' flux and grow
                 // into a needle.
-                let cell = column(a).unwrap_or(entered);
+                let cell = column(a).map_or(entered, |(c, _)| c);
                 return Some(LayerContact { s: b, point: p0.lerp(p1, b), normal, cell });
             }
             was_inside = now;

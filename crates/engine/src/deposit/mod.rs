@@ -4,16 +4,23 @@
 //! later impacts, the surface's orientation at each cell (for cohesion and the other layer
 //! stages), which cells neighbour each other, and how its field is laid out for writers. The
 //! built-in kinds are listed once, in the `surfaces!` invocation below, which generates the
-//! [`Surface`] enum and its static dispatch: a rectangle with a heightfield
-//! ([`RectangleSurface`]) today.
+//! [`Surface`] enum and its static dispatch: a heightfield on an unrolled surface
+//! ([`GridSurface`]: a rectangle, [`RectangleSurface`], or a cylindrical shell,
+//! [`CylinderSurface`]) and a triangle mesh with a thickness per triangle ([`MeshSurface`]).
 
+mod chart;
+mod grid;
 mod heightfield;
-mod rectangle;
+mod mesh;
+mod openings;
 
+pub use chart::{Chart, ShellChart};
+pub use grid::{CylinderSurface, GridSurface, RectangleSurface};
 pub use heightfield::HeightField;
-pub use rectangle::RectangleSurface;
+pub use mesh::{MeshError, MeshSurface};
+pub use openings::Opening;
 
-use crate::collision::Shape;
+use crate::collision::{Hit, Shape};
 use glam::DVec3;
 
 /// Where a path meets a deposited layer.
@@ -45,13 +52,16 @@ pub struct SurfaceMesh {
     /// For each triangle, the cell whose data it shows (a cell of the mesh: with
     /// downsampling, the first cell of the block it stands for).
     pub cell: Vec<u32>,
+    /// Side of the blocks of a grid averaged down, cells: a triangle's `cell` and the next
+    /// `block − 1` cells along its row and column (0 or 1: every cell stands for itself).
+    pub block: usize,
 }
 
 /// How a surface's cells are laid out, for the writers of maps and meshes.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Layout {
     /// `rows × cols` cells stored row-major from row 0; `cell` is their size `(along a row,
-    /// along a column)`, m.
+    /// along a column)`, m; `axes` label the map's horizontal and vertical axes.
     Grid {
         /// Rows.
         rows: usize,
@@ -59,21 +69,47 @@ pub enum Layout {
         cols: usize,
         /// Cell size `(width, height)`, m.
         cell: (f64, f64),
+        /// What the columns and the rows run along.
+        axes: [MapAxis; 2],
     },
+    /// Cells without a grid (a mesh's triangles), one value each.
+    Cells {
+        /// Cells.
+        count: usize,
+    },
+}
+
+/// One axis of a map: what it measures and the values at its two ends (the first and last
+/// column's outer edges, or the bottom and top rows').
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapAxis {
+    /// Label with its unit.
+    pub label: &'static str,
+    /// Value at the start (left or bottom edge).
+    pub from: f64,
+    /// Value at the end (right or top edge).
+    pub to: f64,
 }
 
 /// A surface that collects deposit. Cells are numbered `0..cells()`; thickness is volume per
 /// area of the bare surface, m.
 pub trait DepositSurface: Send + Sync + std::fmt::Debug {
-    /// The bare surface as a collision shape.
-    fn collider(&self) -> Shape;
+    /// The bare surface as collision shapes, its pieces: one for a heightfield, a triangle per
+    /// cell for a mesh.
+    fn colliders(&self) -> Vec<Shape>;
 
-    /// True if a hit on the bare surface whose normal (facing the incoming particle) is
+    /// The piece of [`DepositSurface::colliders`] that `cell` lies on.
+    fn piece_of(&self, cell: u32) -> u32;
+
+    /// Where the segment `p0 → p1` first meets the bare surface.
+    fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit>;
+
+    /// True if a hit at `point` on `piece` whose normal (facing the incoming particle) is
     /// `normal` strikes the receiving side.
-    fn receives(&self, normal: DVec3) -> bool;
+    fn receives(&self, piece: u32, point: DVec3, normal: DVec3) -> bool;
 
-    /// The cell under a point on the bare surface (clamped to the surface).
-    fn cell_at(&self, point: DVec3) -> u32;
+    /// The cell under a point on `piece` of the bare surface (clamped to the surface).
+    fn cell_at(&self, piece: u32, point: DVec3) -> u32;
 
     /// Where the segment `p0 → p1` first enters the deposited layer on the receiving side.
     fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact>;
@@ -136,6 +172,24 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     /// them is at most the sine of the surface's tilt there.
     fn spacing(&self, cell: u32) -> f64;
 
+    /// An upper bound of the drop, per metre between centres, from `cell` to any cell of its
+    /// stencil (or where a missing one would be), along unit `up`: dimensionless.
+    fn drop_bound(&self, cell: u32, up: DVec3) -> f64 {
+        let own = self.point_above(cell, 0.0);
+        let mut most = 0.0_f64;
+        self.stencil(cell, &mut |_, centre| {
+            let l = centre.distance(own);
+            if l > 0.0 {
+                most = most.max((own - centre).dot(up) / l);
+            }
+        });
+        most
+    }
+
+    /// Distance from `cell`'s centre to the nearest edge of the surface or of an opening,
+    /// along the surface, m.
+    fn edge_distance(&self, cell: u32) -> f64;
+
     /// Adds `dt` (m, negative to remove) to `cell`'s thickness, never below 0.
     fn add_thickness(&mut self, cell: u32, dt: f64);
 
@@ -166,11 +220,16 @@ macro_rules! surfaces {
         }
 
         impl DepositSurface for Surface {
-            fn collider(&self) -> Shape { each!(self, s => s.collider()) }
+            fn colliders(&self) -> Vec<Shape> { each!(self, s => s.colliders()) }
             #[inline]
-            fn receives(&self, normal: DVec3) -> bool { each!(self, s => s.receives(normal)) }
+            fn piece_of(&self, cell: u32) -> u32 { each!(self, s => s.piece_of(cell)) }
+            fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> { each!(self, s => s.intersect(p0, p1)) }
             #[inline]
-            fn cell_at(&self, point: DVec3) -> u32 { each!(self, s => s.cell_at(point)) }
+            fn receives(&self, piece: u32, point: DVec3, normal: DVec3) -> bool {
+                each!(self, s => s.receives(piece, point, normal))
+            }
+            #[inline]
+            fn cell_at(&self, piece: u32, point: DVec3) -> u32 { each!(self, s => s.cell_at(piece, point)) }
             #[inline]
             fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
                 each!(self, s => s.layer_contact(p0, p1))
@@ -201,6 +260,8 @@ macro_rules! surfaces {
                 each!(self, s => s.stencil(cell, visit))
             }
             fn spacing(&self, cell: u32) -> f64 { each!(self, s => s.spacing(cell)) }
+            fn drop_bound(&self, cell: u32, up: DVec3) -> f64 { each!(self, s => s.drop_bound(cell, up)) }
+            fn edge_distance(&self, cell: u32) -> f64 { each!(self, s => s.edge_distance(cell)) }
             fn add_thickness(&mut self, cell: u32, dt: f64) { each!(self, s => s.add_thickness(cell, dt)) }
             fn take_changed(&mut self) -> Vec<u32> { each!(self, s => s.take_changed()) }
             fn layout(&self) -> Layout { each!(self, s => s.layout()) }
@@ -212,6 +273,10 @@ macro_rules! surfaces {
 surfaces! {
     /// A rectangle with a regular heightfield.
     Rectangle(RectangleSurface),
+    /// A cylindrical shell with a heightfield on its unrolled surface.
+    Cylinder(CylinderSurface),
+    /// A triangle mesh with a thickness per triangle.
+    Mesh(MeshSurface),
 }
 
 impl Surface {
@@ -219,6 +284,7 @@ impl Surface {
     pub fn as_rectangle(&self) -> Option<&RectangleSurface> {
         match self {
             Surface::Rectangle(r) => Some(r),
+            _ => None,
         }
     }
 }

@@ -57,6 +57,9 @@ pub struct Circle {
     pub first: DVec3,
     /// Unit direction of the offset a quarter turn later.
     pub second: DVec3,
+    /// The spray axis the circle's plane was given for (perpendicular to it): as the axis turns
+    /// along the path, the plane turns with it, by the shortest rotation from this axis.
+    pub axis: DVec3,
 }
 
 impl Circle {
@@ -134,13 +137,15 @@ impl NozzlePath {
             let f = (t - a.time) / (b.time - a.time);
             (a.position.lerp(b.position, f), slerp(a.axis, b.axis, f), a.spray)
         };
-        let pos = pos + self.circle.map_or(DVec3::ZERO, |c| c.offset(t));
+        let pos = pos + self.circle.map_or(DVec3::ZERO, |c| turn(c.axis, axis) * c.offset(t));
         (NozzleFrame::new(pos, axis, self.roll), spray)
     }
 
-    /// The nozzle's velocity at time `t` (s), m/s: the travel along the path plus the circle.
+    /// The nozzle's velocity at time `t` (s), m/s: the travel along the path plus the circle
+    /// (in its plane at `t`; the plane's own turning is left out, as slow beside the circle).
     pub fn velocity(&self, t: f64) -> DVec3 {
-        self.travel_velocity(t) + self.circle.map_or(DVec3::ZERO, |c| c.velocity(t))
+        let circle = self.circle.map_or(DVec3::ZERO, |c| turn(c.axis, self.at(t).0.axis) * c.velocity(t));
+        self.travel_velocity(t) + circle
     }
 
     /// The velocity of travel along the path at time `t` (s), m/s, without the circle:
@@ -173,6 +178,13 @@ impl NozzlePath {
             None => 0.0,
         }
     }
+}
+
+/// The shortest rotation taking unit `from` to unit `to` (the identity, exactly, when they
+/// are equal).
+#[inline]
+fn turn(from: DVec3, to: DVec3) -> glam::DQuat {
+    if from == to { glam::DQuat::IDENTITY } else { glam::DQuat::from_rotation_arc(from, to) }
 }
 
 /// Spherical interpolation between unit vectors that are not opposite.

@@ -2,7 +2,7 @@
 //! (zig-zag) over a rectangle of a face, the robot tasks of the paper's Figure 4.
 
 use super::{Circle, NozzleFrame, NozzlePath, Waypoint};
-use crate::collision::Face;
+use crate::deposit::Chart;
 use glam::DVec3;
 
 /// Direction of a raster's passes in the face.
@@ -69,72 +69,83 @@ impl Default for RasterPlan {
 /// the axis with `radius` (m) at `frequency` (Hz), its aperture rolled by `roll` (rad).
 pub fn circling(position: DVec3, axis: DVec3, radius: f64, frequency: f64, roll: f64) -> NozzlePath {
     let frame = NozzleFrame::new(position, axis, 0.0);
-    let circle = Circle { radius, frequency, start: 0.0, first: frame.width_axis, second: frame.height_axis };
+    let circle = Circle {
+        radius,
+        frequency,
+        start: 0.0,
+        first: frame.width_axis,
+        second: frame.height_axis,
+        axis: frame.axis,
+    };
     NozzlePath::fixed(position, axis, roll).with_circle(circle)
 }
 
-/// A raster over `face` (see [`raster_waypoints`]) with its circle, if any, superposed; the
-/// aperture rolled by `roll` (rad).
-pub fn raster(face: &Face, r: &RasterPlan, roll: f64) -> NozzlePath {
-    let (along, across) = raster_axes(face, r.passes);
-    let path = NozzlePath::through(raster_waypoints(face, r), roll);
+/// A raster over the surface `chart` unrolls (see [`raster_waypoints`]) with its circle, if
+/// any, superposed in the plane perpendicular to the spray axis; the aperture rolled by `roll`
+/// (rad).
+pub fn raster(chart: &impl Chart, r: &RasterPlan, roll: f64) -> NozzlePath {
+    let path = NozzlePath::through(raster_waypoints(chart, r), roll);
     if r.circle_radius > 0.0 && r.circle_frequency > 0.0 {
-        let circle = Circle {
-            radius: r.circle_radius,
-            frequency: r.circle_frequency,
-            start: r.start_time,
-            first: along,
-            second: across,
+        let (normal, right, up) = chart.frame(r.offset[0], r.offset[1]);
+        let (first, second) = match r.passes {
+            PassDirection::Horizontal => (right, up),
+            PassDirection::Vertical => (up, right),
         };
+        let circle = Circle { radius: r.circle_radius, frequency: r.circle_frequency, start: r.start_time, first, second, axis: -normal };
         path.with_circle(circle)
     } else {
         path
     }
 }
 
-/// The pass direction and the step-over direction of a raster over `face`.
-fn raster_axes(face: &Face, passes: PassDirection) -> (DVec3, DVec3) {
-    match passes {
-        PassDirection::Horizontal => (face.right, face.up),
-        PassDirection::Vertical => (face.up, face.right),
-    }
-}
+/// Longest leg of a raster on a curved surface, m along it: the nozzle follows the surface in
+/// steps of this (1° of a 3 m tunnel), so that its standoff stays within 0.02 % of the plan.
+const CURVED_STEP: f64 = 0.05;
 
-/// The corners of a raster over `face` without its circle: passes from the bottom (horizontal)
-/// or the left (vertical), alternating direction, the nozzle at the standoff along the face's
-/// normal, spraying against it at the travel speed; each waypoint's spray flag holds for the leg
-/// that starts there.
-pub fn raster_waypoints(face: &Face, r: &RasterPlan) -> Vec<Waypoint> {
+/// The waypoints of a raster over the surface `chart` unrolls, without its circle: passes from
+/// the bottom (horizontal, along the unrolled width) or the left (vertical), alternating
+/// direction, the nozzle at the standoff along the surface's normal, spraying against it at the
+/// travel speed; each waypoint's spray flag holds for the leg that starts there. On a flat
+/// surface the waypoints are the corners of the zig-zag; on a curved one the legs are cut so
+/// that the nozzle follows the surface.
+pub fn raster_waypoints(chart: &impl Chart, r: &RasterPlan) -> Vec<Waypoint> {
     let [w, h] = r.size;
-    let centre = face.center + face.right * r.offset[0] + face.up * r.offset[1] + face.normal * r.standoff;
-    // `along`: the pass direction; `across`: the step-over direction.
-    let (along, across) = raster_axes(face, r.passes);
-    let (length, span) = match r.passes {
-        PassDirection::Horizontal => (w, h),
-        PassDirection::Vertical => (h, w),
+    // (u, v) unit steps along the passes and across them.
+    let (along, across, length, span) = match r.passes {
+        PassDirection::Horizontal => ((1.0, 0.0), (0.0, 1.0), w, h),
+        PassDirection::Vertical => ((0.0, 1.0), (1.0, 0.0), h, w),
     };
     let passes = (span / r.step_over + 1e-9).floor() as usize + 1;
     let half = length / 2.0 + r.lead;
-    // Corners of the zig-zag, with the spray state of the leg that starts there.
-    let mut corners: Vec<(DVec3, bool)> = Vec::new();
+    let at = |a: f64, b: f64| (r.offset[0] + along.0 * a + across.0 * b, r.offset[1] + along.1 * a + across.1 * b);
+    // Corners of the zig-zag in (u, v), with the spray state of the leg that starts there.
+    let mut corners: Vec<((f64, f64), bool)> = Vec::new();
     for k in 0..passes {
         let b = -span / 2.0 + k as f64 * r.step_over;
         let (from, to) = if k % 2 == 0 { (-half, half) } else { (half, -half) };
-        corners.push((centre + across * b + along * from, true));
-        corners.push((centre + across * b + along * to, r.spray_on_turns && k + 1 < passes));
+        corners.push((at(from, b), true));
+        corners.push((at(to, b), r.spray_on_turns && k + 1 < passes));
     }
-    // Times at the corners, at constant travel speed.
-    let mut times = vec![r.start_time];
+    // Cut the legs on a curved surface.
+    let curved = chart.uniform_normal().is_none();
+    let mut points: Vec<((f64, f64), bool)> = Vec::new();
     for pair in corners.windows(2) {
-        let last = times[times.len() - 1];
-        times.push(last + pair[0].0.distance(pair[1].0) / r.speed);
+        let (((u0, v0), spray), ((u1, v1), _)) = (pair[0], pair[1]);
+        let n = if curved { ((u1 - u0).hypot(v1 - v0) / CURVED_STEP).ceil().max(1.0) as usize } else { 1 };
+        for j in 0..n {
+            let f = j as f64 / n as f64;
+            points.push(((u0 + (u1 - u0) * f, v0 + (v1 - v0) * f), spray));
+        }
     }
-    let axis = -face.normal;
-    let mut out: Vec<Waypoint> = corners
-        .iter()
-        .zip(&times)
-        .map(|(&(position, spray), &time)| Waypoint { time, position, axis, spray })
-        .collect();
+    points.extend(corners.last().copied());
+    // The poses, and times at constant travel speed along the nozzle's own path.
+    let pose = |(u, v): (f64, f64)| (chart.point(u, v, r.standoff), -chart.frame(u, v).0);
+    let mut out: Vec<Waypoint> = Vec::with_capacity(points.len());
+    for (uv, spray) in points {
+        let (position, axis) = pose(uv);
+        let time = out.last().map_or(r.start_time, |p: &Waypoint| p.time + p.position.distance(position) / r.speed);
+        out.push(Waypoint { time, position, axis, spray });
+    }
     // The path ends, spraying no more, at the last corner.
     if let Some(last) = out.last_mut() {
         last.spray = false;

@@ -2,7 +2,6 @@
 //! their sample of the nozzle's pose.
 
 use super::{Plan, State};
-use crate::collision::Primitive;
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
 use crate::emission::NozzleFrame;
@@ -75,7 +74,7 @@ fn record_path(
         .targets
         .iter()
         .filter(|t| t.role == Role::Substrate)
-        .filter_map(|t| t.surface.collider().intersect(frame.position, far))
+        .filter_map(|t| t.surface.intersect(frame.position, far))
         .min_by(|a, b| a.t.total_cmp(&b.t));
     let p = &mut state.path;
     p.samples += 1;

@@ -2,7 +2,7 @@
 //! how far the layers have grown.
 
 use super::{Plan, State};
-use crate::collision::Arc;
+use crate::collision::{Arc, SurfaceId};
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
 use crate::events::EventHandler;
@@ -45,9 +45,10 @@ pub(super) fn grow_allowances(config: &SimulationConfig, state: &mut State, lazy
     let grown: Vec<_> = state
         .targets
         .iter()
-        .filter_map(|t| {
-            let top = t.surface.max_thickness();
-            (top > state.scene.surface(t.surface_id).layer).then_some((t.surface_id, (2.0 * top).max(0.01)))
+        .filter(|t| t.surface.max_thickness() > state.scene.surface(t.surface_id).layer)
+        .flat_map(|t| {
+            let reach = (2.0 * t.surface.max_thickness()).max(0.01);
+            (0..t.pieces).map(move |k| (SurfaceId(t.surface_id.0 + k), reach))
         })
         .collect();
     if grown.is_empty() {

@@ -19,12 +19,15 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
     let mut targets = Vec::new();
     for (i, t) in c.targets.iter().enumerate() {
         let surface_id = SurfaceId(surfaces.len() as u32);
-        surfaces.push(SurfaceRef {
-            shape: t.surface.collider(),
+        let pieces = t.surface.colliders();
+        let count = pieces.len() as u32;
+        surfaces.extend(pieces.into_iter().enumerate().map(|(k, shape)| SurfaceRef {
+            shape,
             kind: SurfaceKind::Target(i),
+            piece: k as u32,
             impact: models.len(),
             layer: 0.0,
-        });
+        }));
         models.push(t.impact.clone());
         let cells = t.surface.thickness().len();
         targets.push(Target {
@@ -32,6 +35,7 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
             role: t.role,
             surface: t.surface.clone(),
             surface_id,
+            pieces: count,
             hits: 0,
             stuck: Default::default(),
             loose: Default::default(),
@@ -56,9 +60,10 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
         models.push(o.impact.clone());
         // Every shape is a surface of its own (a mesh's triangles one by one), so the grid
         // indexes them separately.
-        surfaces.extend(o.shapes.iter().map(|shape| SurfaceRef {
+        surfaces.extend(o.shapes.iter().enumerate().map(|(k, shape)| SurfaceRef {
             shape: shape.clone(),
             kind: SurfaceKind::Obstacle(i),
+            piece: k as u32,
             impact,
             layer: 0.0,
         }));

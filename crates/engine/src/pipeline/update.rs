@@ -309,7 +309,7 @@ impl UpdateContext<'_> {
                     (-(v_in - n * v_in.dot(n))).try_normalize().unwrap_or(n)
                 };
                 hit = Some(Strike {
-                    surface: target.surface_id,
+                    surface: SurfaceId(target.surface_id.0 + target.surface.piece_of(cell)),
                     hit: Hit { t: s, point, normal },
                     velocity: v_in,
                     cell: Some(cell),
@@ -435,10 +435,13 @@ impl UpdateContext<'_> {
             // contact with the layer is on the front by construction, whatever its normal (a
             // particle entering a taller column through its side meets a normal in the face's
             // plane); a hit on the bare surface is on the front if it comes from that side.
+            let piece = surface.piece;
             let front = match surface.kind {
-                SurfaceKind::Target(t) if cell.is_some() || self.targets[t].surface.receives(hit.normal) => {
+                SurfaceKind::Target(t)
+                    if cell.is_some() || self.targets[t].surface.receives(piece, hit.point, hit.normal) =>
+                {
                     let target = &self.targets[t];
-                    let cell = cell.unwrap_or_else(|| target.surface.cell_at(hit.point));
+                    let cell = cell.unwrap_or_else(|| target.surface.cell_at(piece, hit.point));
                     Some((target, t, cell))
                 }
                 _ => None,

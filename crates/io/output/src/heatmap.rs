@@ -1,6 +1,7 @@
 //! Heatmap images of a heightfield-sized grid, with a title and a labelled colour scale.
 
 use image::{Rgb, RgbImage};
+use spraysim_engine::deposit::MapAxis;
 use spraysim_scenario::Colormap;
 
 /// Largest side of the data area in pixels; finer grids are averaged down to it.
@@ -10,6 +11,8 @@ const MIN_SIDE: usize = 512;
 
 const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
 const BLACK: Rgb<u8> = Rgb([0, 0, 0]);
+/// Where the surface is cut away (an opening): no value.
+const NO_SURFACE: Rgb<u8> = Rgb([205, 205, 205]);
 
 /// A grid to draw: `values[row * cols + col]`, row 0 at the bottom (drawn at the bottom, so the
 /// face's `up` is at the top of the image).
@@ -22,6 +25,8 @@ pub struct Grid<'a> {
     pub rows: usize,
     /// Optional per-cell marks drawn over the colours: 1 at risk (orange), 2 failed (red).
     pub marks: Option<&'a [u8]>,
+    /// What the columns and rows run along, labelled under and beside the map.
+    pub axes: Option<&'a [MapAxis; 2]>,
 }
 
 /// How to label the colour scale.
@@ -103,6 +108,38 @@ fn tick_label(v: f64, max: f64) -> String {
     format!("{v:.decimals$}")
 }
 
+/// Three ticks of an axis: (fraction along it, label).
+fn axis_ticks(a: &MapAxis) -> Vec<(f64, String)> {
+    let span = (a.to - a.from).abs().max(1e-12);
+    [0.0, 0.5, 1.0].iter().map(|&f| (f, tick_label(a.from + f * (a.to - a.from), span))).collect()
+}
+
+/// Ticks and labels of the map's axes around the data area `(x0, y0, w, h)`.
+fn draw_axes(img: &mut RgbImage, axes: &[MapAxis; 2], ticks: &[Vec<(f64, String)>; 2], area: (usize, usize, usize, usize), s: i64) {
+    let (x0, y0, w, h) = area;
+    let tick = 4 * s as usize;
+    for (f, label) in &ticks[0] {
+        let x = x0 + ((w - 1) as f64 * f) as usize;
+        for dy in 0..tick {
+            img.put_pixel(x as u32, (y0 + h + dy) as u32, BLACK);
+        }
+        let tx = (x as i64 - (label.len() as i64 * 8 * s) / 2).clamp(x0 as i64 - 8 * s, (x0 + w) as i64 - label.len() as i64 * 8 * s + 8 * s);
+        draw_text(img, tx, (y0 + h + tick + s as usize) as i64, s, label);
+    }
+    let label_x = x0 as i64 + (w as i64 - axes[0].label.chars().count() as i64 * 8 * s) / 2;
+    draw_text(img, label_x.max(x0 as i64), (y0 + h + tick + 10 * s as usize + s as usize) as i64, s, axes[0].label);
+    for (f, label) in &ticks[1] {
+        let y = y0 + h - 1 - ((h - 1) as f64 * f) as usize;
+        for dx in 0..tick {
+            img.put_pixel((x0 - 1 - dx) as u32, y as u32, BLACK);
+        }
+        let ty = (y as i64 - 4 * s).clamp(y0 as i64, (y0 + h) as i64 - 8 * s);
+        draw_text(img, x0 as i64 - tick as i64 - 2 - label.len() as i64 * 8 * s, ty, s, label);
+    }
+    // The vertical axis's label above the map, at its left.
+    draw_text(img, x0 as i64, y0 as i64 - 10 * s, s, axes[1].label);
+}
+
 /// Renders `grid` as a heatmap from 0 to its maximum, titled `title`.
 pub fn render(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap) -> RgbImage {
     let max = grid.values.iter().copied().fold(0.0_f64, f64::max);
@@ -128,24 +165,34 @@ pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, 
     let labels = (0..=4).map(|i| tick_label(top * i as f64 / 4.0, top)).collect::<Vec<_>>();
     let label_w = labels.iter().map(|l| l.len()).max().unwrap_or(1) * 8 * s as usize;
     let ticks_w = bar_w + 6 * s as usize + label_w;
-    let width = margin + w + margin + ticks_w.max(scale.label.chars().count() * 8 * s as usize) + margin;
-    let height = margin + title_h + title_h + h + margin;
+    // Room for the axes' ticks and labels: numbers left of the map, below it, and the labels.
+    let axis_ticks = grid.axes.map(|a| [axis_ticks(&a[0]), axis_ticks(&a[1])]);
+    let left = axis_ticks.as_ref().map_or(0, |t| t[1].iter().map(|l| l.1.len()).max().unwrap_or(0) * 8 * s as usize + 8 * s as usize);
+    let bottom = if grid.axes.is_some() { 2 * title_h + 4 * s as usize } else { 0 };
+    let width = margin + left + w + margin + ticks_w.max(scale.label.chars().count() * 8 * s as usize) + margin;
+    let height = margin + title_h + title_h + h + bottom + margin;
     let mut img = RgbImage::from_pixel(width as u32, height as u32, WHITE);
     draw_text(&mut img, margin as i64, margin as i64, s, title);
 
     // Data area: averages of down × down blocks; image row 0 is the grid's top row.
-    let (x0, y0) = (margin, margin + 2 * title_h);
+    let (x0, y0) = (margin + left, margin + 2 * title_h);
+    if let (Some(axes), Some(ticks)) = (grid.axes, &axis_ticks) {
+        draw_axes(&mut img, axes, ticks, (x0, y0, w, h), s);
+    }
     for by in 0..rows.div_ceil(down) {
         for bx in 0..cols.div_ceil(down) {
             let (mut sum, mut n, mut mark) = (0.0, 0.0, 0u8);
             for r in by * down..((by + 1) * down).min(rows) {
                 for c in bx * down..((bx + 1) * down).min(cols) {
-                    sum += grid.values[r * cols + c];
-                    n += 1.0;
+                    let v = grid.values[r * cols + c];
+                    if v.is_finite() {
+                        sum += v;
+                        n += 1.0;
+                    }
                     mark = mark.max(grid.marks.map_or(0, |m| m[r * cols + c]));
                 }
             }
-            let base = color(map, sum / n * scale.factor / top);
+            let base = if n > 0.0 { color(map, sum / n * scale.factor / top) } else { NO_SURFACE };
             // Marks are blended over the colour, so the thickness still reads through.
             let px = match mark {
                 0 => base,

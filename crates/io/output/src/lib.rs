@@ -1,17 +1,18 @@
 //! # spraysim-output
 //!
-//! Writing a run's results: `metrics.json`, per-target arrays (`.npy`) and heatmaps (`.png`),
-//! the impact log and the resolved scenario. Files are written whole or not at all: everything
+//! Writing a run's results: `metrics.json`, per-target arrays (`.npy`), heatmaps (`.png`) and
+//! 3D files of the deposits (PLY, glTF, VTK), the impact log and the resolved scenario. Files are written whole or not at all: everything
 //! goes to a staging folder inside the output directory first and is moved into place only once
 //! all of it has been written.
 
+pub mod export;
 pub mod heatmap;
 
-use ndarray::ArrayView2;
+use ndarray::{ArrayViewD, IxDyn};
 use spraysim_engine::Simulation;
 use spraysim_engine::collision::SurfaceKind;
-use spraysim_engine::deposit::{DepositSurface, Layout};
-use spraysim_scenario::Scenario;
+use spraysim_engine::deposit::{DepositSurface, Layout, MapAxis};
+use spraysim_scenario::{ExportFormat, Scenario};
 use std::path::{Path, PathBuf};
 
 /// Why outputs could not be written.
@@ -124,60 +125,99 @@ pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>
         files.push(("impacts.csv".into(), impact_csv(sim).into_bytes()));
     }
     for t in sim.targets() {
-        let Layout::Grid { rows, cols, .. } = t.surface.layout();
-        let name = |what: &str, ext: &str| format!("{}_{what}.{ext}", t.name);
-        if sc.output().arrays {
-            let thickness: Vec<f32> = t.surface.thickness().iter().map(|&x| x as f32).collect();
-            let n = name("thickness", "npy");
-            files.push((n.clone(), npy_bytes(rows, cols, &thickness, Path::new(&n))?));
-            let n = name("hits", "npy");
-            files.push((n.clone(), npy_bytes(rows, cols, t.surface.hits(), Path::new(&n))?));
-            if let Some(e) = &t.erosion {
-                let worn: Vec<f32> = e.substrate.iter().map(|&x| x as f32).collect();
-                let n = name("erosion", "npy");
-                files.push((n.clone(), npy_bytes(rows, cols, &worn, Path::new(&n))?));
-                if e.initial_coating > 0.0 {
-                    let left: Vec<f32> = e.coating.iter().map(|&x| x as f32).collect();
-                    let n = name("coating", "npy");
-                    files.push((n.clone(), npy_bytes(rows, cols, &left, Path::new(&n))?));
-                }
+        files.extend(target_files(t, sc)?);
+    }
+    if sc.output().export_particles {
+        let sw = sim.swarm();
+        let alive = |i: &usize| sw.flags[*i] & spraysim_engine::particles::flags::ALIVE != 0;
+        let points: Vec<_> = (0..sw.len()).filter(alive).map(|i| (sw.pos[i], sw.vel[i])).collect();
+        files.push(("particles.ply".into(), export::ply_points(&points)));
+    }
+    Ok(files)
+}
+
+/// The arrays, heatmaps and 3D files of one target.
+fn target_files(t: &spraysim_engine::world::Target, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
+    let mut files = Vec::new();
+    let layout = t.surface.layout();
+    let shape = match &layout {
+        Layout::Grid { rows, cols, .. } => vec![*rows, *cols],
+        Layout::Cells { count } => vec![*count],
+    };
+    let name = |what: &str, ext: &str| format!("{}_{what}.{ext}", t.name);
+    // Cells cut away (openings) carry no surface: NaN in the maps.
+    let cells = t.surface.thickness().len() as u32;
+    let solid: Vec<bool> = (0..cells).map(|c| t.surface.cell_area(c) > 0.0).collect();
+    let map = |values: &dyn Fn(usize) -> f64| -> Vec<f64> {
+        (0..cells as usize).map(|c| if solid[c] { values(c) } else { f64::NAN }).collect()
+    };
+    let thickness = map(&|c| t.surface.thickness()[c]);
+    if sc.output().arrays {
+        let f32s = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<f32>>();
+        let n = name("thickness", "npy");
+        files.push((n.clone(), npy_bytes(&shape, &f32s(&thickness), Path::new(&n))?));
+        let n = name("hits", "npy");
+        files.push((n.clone(), npy_bytes(&shape, t.surface.hits(), Path::new(&n))?));
+        if let Some(e) = &t.erosion {
+            let n = name("erosion", "npy");
+            files.push((n.clone(), npy_bytes(&shape, &f32s(&map(&|c| e.substrate[c])), Path::new(&n))?));
+            if e.initial_coating > 0.0 {
+                let n = name("coating", "npy");
+                files.push((n.clone(), npy_bytes(&shape, &f32s(&map(&|c| e.coating[c])), Path::new(&n))?));
             }
         }
-        if sc.output().images {
-            for (what, img) in heatmaps(t, sc, rows, cols) {
-                let n = name(what, "png");
-                files.push((n.clone(), png_bytes(&img, Path::new(&n))?));
-            }
+    }
+    if let (true, Layout::Grid { rows, cols, axes, .. }) = (sc.output().images, &layout) {
+        for (what, img) in heatmaps(t, sc, &thickness, (*rows, *cols), axes) {
+            let n = name(what, "png");
+            files.push((n.clone(), png_bytes(&img, Path::new(&n))?));
+        }
+    }
+    if !sc.output().export.is_empty() {
+        let deposit = export::Deposit::of(t, sc.output().export_max_cells as usize, sc.output().colormap);
+        for &format in &sc.output().export {
+            let n = format!("{}.{}", t.name, format.extension());
+            let bytes = match format {
+                ExportFormat::Ply => export::ply(&deposit, &t.name),
+                ExportFormat::Vtk => export::vtk(&deposit, &t.name),
+                ExportFormat::Glb => export::glb(&deposit, &t.name)
+                    .map_err(|message| OutputError::Npy { path: n.clone().into(), message })?,
+            };
+            files.push((n, bytes));
         }
     }
     Ok(files)
 }
 
 /// The heatmaps of one target, by what they show; a map with nothing to show (no deposit, no
-/// wear, nothing at risk) is not drawn.
+/// wear, nothing at risk) is not drawn. `thickness` is NaN where the surface is cut away.
 fn heatmaps(
     t: &spraysim_engine::world::Target,
     sc: &Scenario,
-    rows: usize,
-    cols: usize,
+    thickness: &[f64],
+    (rows, cols): (usize, usize),
+    axes: &[MapAxis; 2],
 ) -> Vec<(&'static str, image::RgbImage)> {
     let map = sc.output().colormap;
-    let thickness = t.surface.thickness();
     let max = thickness.iter().copied().fold(0.0, f64::max);
     let scale = heatmap::Scale::thickness(max);
-    let grid = heatmap::Grid { values: thickness, cols, rows, marks: None };
+    let grid = heatmap::Grid { values: thickness, cols, rows, marks: None, axes: Some(axes) };
     let mut out = Vec::new();
     if max > 0.0 {
         out.push(("thickness", heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, map)));
     }
     // Impacts per cm², the map a blasting jet leaves.
-    let per_cm2 = 1.0 / (t.surface.cell_area(0) * 1e4);
-    let hits: Vec<f64> = t.surface.hits().iter().map(|&h| f64::from(h) * per_cm2).collect();
-    let grid_hits = heatmap::Grid { values: &hits, cols, rows, marks: None };
+    let hits: Vec<f64> = (0..thickness.len())
+        .map(|c| {
+            let area = t.surface.cell_area(c as u32);
+            if area > 0.0 { f64::from(t.surface.hits()[c]) / (area * 1e4) } else { f64::NAN }
+        })
+        .collect();
+    let grid_hits = heatmap::Grid { values: &hits, ..grid };
     let scale_hits = heatmap::Scale::count("impacts [1/cm²]");
     out.push(("hits", heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, map)));
     if let Some(e) = &t.erosion {
-        out.extend(erosion_maps(t, e, rows, cols, map));
+        out.extend(erosion_maps(t, e, &grid, map));
     }
     let process = sc.process();
     if max > 0.0 && process.sag_threshold > 0.0 {
@@ -195,33 +235,32 @@ fn heatmaps(
     out
 }
 
-/// The substrate's wear and the coating left, where there is something to show.
+/// The substrate's wear and the coating left, where there is something to show, on the cells
+/// of `like` (its size, axes and cut-away cells).
 fn erosion_maps(
     t: &spraysim_engine::world::Target,
     e: &spraysim_engine::world::ErosionMaps,
-    rows: usize,
-    cols: usize,
+    like: &heatmap::Grid<'_>,
     map: spraysim_scenario::Colormap,
 ) -> Vec<(&'static str, image::RgbImage)> {
     let mut out = Vec::new();
+    let cut = |v: &[f64]| -> Vec<f64> {
+        v.iter().zip(like.values).map(|(&x, &t)| if t.is_nan() { f64::NAN } else { x }).collect()
+    };
     let deepest = e.substrate.iter().copied().fold(0.0, f64::max);
     if deepest > 0.0 {
         let mut scale = heatmap::Scale::thickness(deepest);
         scale.label = scale.label.replace("thickness", "substrate worn");
-        let grid = heatmap::Grid { values: &e.substrate, cols, rows, marks: None };
+        let values = cut(&e.substrate);
+        let grid = heatmap::Grid { values: &values, ..*like };
         out.push(("erosion", heatmap::render(&grid, &format!("{}: substrate wear", t.name), &scale, map)));
     }
     if e.initial_coating > 0.0 {
         let mut scale = heatmap::Scale::thickness(e.initial_coating);
         scale.label = scale.label.replace("thickness", "coating left");
-        let grid = heatmap::Grid { values: &e.coating, cols, rows, marks: None };
-        let img = heatmap::render_range(
-            &grid,
-            &format!("{}: coating left", t.name),
-            &scale,
-            map,
-            e.initial_coating,
-        );
+        let values = cut(&e.coating);
+        let grid = heatmap::Grid { values: &values, ..*like };
+        let img = heatmap::render_range(&grid, &format!("{}: coating left", t.name), &scale, map, e.initial_coating);
         out.push(("coating", img));
     }
     out
@@ -257,15 +296,10 @@ fn impact_csv(sim: &Simulation) -> String {
     out
 }
 
-fn npy_bytes<T: ndarray_npy::WritableElement>(
-    rows: usize,
-    cols: usize,
-    data: &[T],
-    at: &Path,
-) -> Result<Vec<u8>, OutputError> {
+fn npy_bytes<T: ndarray_npy::WritableElement>(shape: &[usize], data: &[T], at: &Path) -> Result<Vec<u8>, OutputError> {
     use ndarray_npy::WriteNpyExt;
     let err = |message: String| OutputError::Npy { path: at.to_path_buf(), message };
-    let array = ArrayView2::from_shape((rows, cols), data).map_err(|e| err(e.to_string()))?;
+    let array = ArrayViewD::from_shape(IxDyn(shape), data).map_err(|e| err(e.to_string()))?;
     let mut bytes = Vec::new();
     array.write_npy(&mut bytes).map_err(|e| err(e.to_string()))?;
     Ok(bytes)

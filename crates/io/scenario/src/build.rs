@@ -3,11 +3,11 @@
 use crate::params::*;
 use crate::scenario::Scenario;
 use glam::DVec3;
-use spraysim_engine::collision::{Aabb, Cylinder, Disk, Face, OrientedBox, Plane, Shape, Sphere};
+use spraysim_engine::collision::{Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle};
 use spraysim_engine::config::{
     ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
 };
-use spraysim_engine::deposit::{RectangleSurface, Surface};
+use spraysim_engine::deposit::{CylinderSurface, MeshSurface, RectangleSurface, ShellChart, Surface};
 use spraysim_engine::emission::{self, Emitter, NozzlePath, Waypoint, circling, raster};
 use spraysim_engine::motion::Motion;
 use spraysim_engine::process::erosion::{Finnie, Oka};
@@ -60,18 +60,24 @@ impl Scenario {
         }
         let gravity = DVec3::from_array(self.simulation().gravity).normalize_or_zero();
         for t in self.targets() {
-            let TargetShape::Rectangle { normal, edges, .. } = t.shape;
             // Facing sideways or down, what slumps down the face piles at its held foot without
             // limit (the heightfield measures thickness across the face, not a heap on a floor).
-            if edges == Edges::Held
-                && self.process().slump.interval > 0.0
-                && -gravity.dot(v3(normal).normalize()) < 0.5f64.sqrt()
-            {
+            let steep = match t.shape {
+                TargetShape::Rectangle { normal, edges, .. } => {
+                    edges == Edges::Held && -gravity.dot(v3(normal).normalize()) < 0.5f64.sqrt()
+                }
+                TargetShape::Cylinder { edges, .. } => edges == Edges::Held,
+                TargetShape::Mesh { .. } => false,
+            };
+            if steep && self.process().slump.interval > 0.0 {
                 out.push(format!(
                     "target `{}` holds its edges but is steeper than 45°: what slumps down it piles up at its foot \
                      without limit (leave its edges free over a floor target that catches what runs off)",
                     t.name
                 ));
+            }
+            if let TargetShape::Mesh { mesh, .. } = &t.shape {
+                out.extend(coarse_mesh(self, &t.name, &mesh.triangles));
             }
         }
         out
@@ -95,6 +101,8 @@ fn config(sc: &Scenario) -> SimulationConfig {
                 coating_law,
                 substrate_law,
             }),
+            tolerance: t.tolerance,
+            margin: t.margin,
         })
         .collect();
     let obstacles = sc
@@ -207,14 +215,72 @@ fn erosion_laws(e: &ErosionParams) -> Option<Laws> {
 }
 
 fn surface(shape: &TargetShape) -> Surface {
-    match *shape {
-        TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges } => {
+    match shape {
+        &TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges, ref openings } => {
             let face = Face::new(v3(center), v3(normal), v3(up), size);
             let [cols, rows] = resolution.map(|r| r as usize);
-            let rect = RectangleSurface::new(face, cols, rows, splat_radius);
-            Surface::Rectangle(rect.with_held_edges(edges == Edges::Held))
+            let rect = RectangleSurface::new(face, cols, rows, splat_radius)
+                .with_held_edges(edges == Edges::Held)
+                .with_openings(openings.iter().map(opening).collect());
+            Surface::Rectangle(rect)
+        }
+        &TargetShape::Cylinder { resolution, splat_radius, edges, .. } => {
+            let [cols, rows] = resolution.map(|r| r as usize);
+            // Reading checked the shell: its chart exists.
+            let chart = shell_chart(shape).unwrap_or_else(|| unreachable!("checked when read"));
+            let shell = CylinderSurface::new(chart, cols, rows, splat_radius);
+            Surface::Cylinder(shell.with_held_edges(edges == Edges::Held))
+        }
+        TargetShape::Mesh { mesh, side } => {
+            let triangles: Vec<Triangle> = mesh
+                .triangles
+                .iter()
+                .map(|&t| match side {
+                    MeshSide::Front => t,
+                    MeshSide::Back => Triangle { corners: [t.corners[0], t.corners[2], t.corners[1]], normal: -t.normal },
+                })
+                .collect();
+            // A mesh file with no triangle is refused when read.
+            Surface::Mesh(MeshSurface::new(triangles).unwrap_or_else(|e| unreachable!("checked when read: {e}")))
         }
     }
+}
+
+/// The unrolled chart of a cylinder target.
+fn shell_chart(shape: &TargetShape) -> Option<ShellChart> {
+    let &TargetShape::Cylinder { center, axis, radius, length, angles, reference, side, .. } = shape else {
+        return None;
+    };
+    let angles = angles.map(f64::to_radians);
+    let shell = CylinderShell::new(v3(center), v3(axis), v3(reference), radius, length, angles)?;
+    Some(ShellChart { shell, inside: side == ShellSide::Inside })
+}
+
+/// A warning when a mesh's triangles are much larger than the spray's footprint: each triangle
+/// holds the mean of the spray over it, so a footprint needs several triangles across.
+fn coarse_mesh(sc: &Scenario, name: &str, triangles: &[Triangle]) -> Option<String> {
+    let mut sizes: Vec<f64> = triangles.iter().map(|t| (2.0 * t.area()).sqrt()).collect();
+    sizes.sort_by(f64::total_cmp);
+    let median = *sizes.get(sizes.len() / 2)?;
+    // The footprint's radius at the distance from the nozzle's start to the mesh's mean plane.
+    let (centre, ..) = mean_plane(triangles);
+    let nozzle = nozzle_path(sc).at(0.0).0.position;
+    let e = sc.emitter();
+    let half = match e.direction {
+        DirectionLaw::UniformPolar { cone_angle }
+        | DirectionLaw::TruncatedNormal { cone_angle, .. }
+        | DirectionLaw::UniformSolidAngle { cone_angle } => cone_angle / 2.0,
+        DirectionLaw::Fan { fan_narrow_angle, .. } => fan_narrow_angle / 2.0,
+    };
+    let footprint = nozzle.distance(centre) * half.to_radians().tan().max(1e-3);
+    (median > footprint).then(|| {
+        format!(
+            "target `{name}`: its triangles (median {median:.3} m across) are larger than the spray's footprint \
+             (about {footprint:.3} m in radius): each holds the mean of the spray over it; remesh finer, to \
+             about {:.3} m or less, for a thickness map",
+            footprint / 3.0
+        )
+    })
 }
 
 /// The collision shapes of an obstacle: one, or a mesh's triangles.
@@ -285,11 +351,24 @@ fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
     }
 }
 
-/// The face of the rectangle target named `name`.
-fn target_face(sc: &Scenario, name: &str) -> Option<Face> {
-    sc.targets().iter().find(|t| t.name == name).map(|t| match t.shape {
-        TargetShape::Rectangle { center, normal, up, size, .. } => {
-            Face::new(v3(center), v3(normal), v3(up), size)
+/// The surface a raster over the target named `name` covers: a rectangle's face, a shell's
+/// unrolled chart, or the plane a mesh mostly faces.
+enum RasterChart {
+    Face(Face),
+    Shell(ShellChart),
+}
+
+fn raster_chart(sc: &Scenario, name: &str) -> Option<RasterChart> {
+    let t = sc.targets().iter().find(|t| t.name == name)?;
+    Some(match &t.shape {
+        &TargetShape::Rectangle { center, normal, up, size, .. } => {
+            RasterChart::Face(Face::new(v3(center), v3(normal), v3(up), size))
+        }
+        TargetShape::Cylinder { .. } => RasterChart::Shell(shell_chart(&t.shape)?),
+        TargetShape::Mesh { mesh, side } => {
+            let (centre, normal, up, size) = mean_plane(&mesh.triangles);
+            let normal = if *side == MeshSide::Back { -normal } else { normal };
+            RasterChart::Face(Face::new(centre, normal, up, size))
         }
     })
 }
@@ -314,10 +393,11 @@ fn nozzle_path(sc: &Scenario) -> NozzlePath {
                 .collect(),
             roll,
         ),
-        NozzleMotion::Raster { raster: r } => {
-            // Reading the raster checked that its target exists and is a rectangle.
-            let face = target_face(sc, &r.target);
-            face.map_or_else(|| NozzlePath::through(Vec::new(), roll), |f| raster(&f, &r.plan, roll))
-        }
+        NozzleMotion::Raster { raster: r } => match raster_chart(sc, &r.target) {
+            Some(RasterChart::Face(f)) => raster(&f, &r.plan, roll),
+            Some(RasterChart::Shell(c)) => raster(&c, &r.plan, roll),
+            // Reading the raster checked that its target exists.
+            None => NozzlePath::through(Vec::new(), roll),
+        },
     }
 }

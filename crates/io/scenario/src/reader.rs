@@ -266,6 +266,30 @@ impl<'a> Section<'a> {
         }
     }
 
+    /// A list of words of `E`, each at most once (an empty list when the file gives none).
+    pub fn choice_list<E: Choice + PartialEq>(&self, k: &str) -> Read<Vec<E>> {
+        let key = self.key(k);
+        let names = || E::NAMES.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
+        let items = match self.raw(k) {
+            None => return Ok(Vec::new()),
+            Some(Value::Array(items)) => items,
+            Some(v) => return bad(&key, format!("must be a list of {}, got {}", names(), kind(v))),
+        };
+        let mut out = Vec::new();
+        for (i, item) in items.iter().enumerate() {
+            let found = match item {
+                Value::String(s) => E::NAMES.iter().find(|(n, _)| n == s).map(|(_, v)| *v),
+                _ => None,
+            };
+            match found {
+                Some(v) if out.contains(&v) => return bad(&format!("{key}[{i}]"), "is listed twice"),
+                Some(v) => out.push(v),
+                None => return bad(&format!("{key}[{i}]"), format!("must be one of {}", names())),
+            }
+        }
+        Ok(out)
+    }
+
     /// The sub-table `k`, if the file gives it.
     pub fn table(&self, k: &str) -> Read<Option<Section<'a>>> {
         match self.raw(k) {

@@ -150,7 +150,7 @@ impl Scenario {
         let preset = process.preset.defaults().impact;
         let mut names = Vec::new();
         let targets = (root.tables("target")?.iter())
-            .map(|t| read::target(t, &mut names, &process.impact, &preset))
+            .map(|t| read::target(t, &mut names, &process.impact, &preset, &source.base))
             .collect::<Read<Vec<_>>>()?;
         let obstacles = (root.tables("obstacle")?.iter())
             .map(|o| read::obstacle(o, &mut names, &process.impact, &preset, &source.base))
@@ -235,29 +235,50 @@ impl Scenario {
     }
 }
 
-/// Bounding box of the nozzle's position, the targets and the bounded obstacles, grown by 1 m.
-/// (The static default position counts even for a nozzle on a path, as it always has.)
+/// Bounding box of the nozzle's positions, every target and every bounded obstacle (each
+/// vertex of a mesh), grown by 1 m. A raster's path lies within its target's box grown by the
+/// standoff, the lead and the circle.
 fn default_domain(
     nozzle: &NozzleParams,
     targets: &[TargetParams],
     obstacles: &[ObstacleParams],
 ) -> DomainParams {
     let mut points: Vec<[f64; 3]> = Vec::new();
+    // Each target's anchor points and how far around them it reaches, m.
+    let target_reach = |t: &TargetParams| -> (Vec<[f64; 3]>, f64) {
+        match &t.shape {
+            TargetShape::Rectangle { center, size, .. } => (vec![*center], size[0].hypot(size[1]) / 2.0),
+            TargetShape::Cylinder { center, radius, length, .. } => (vec![*center], radius.hypot(length / 2.0)),
+            TargetShape::Mesh { mesh, .. } => {
+                (mesh.triangles.iter().flat_map(|t| t.corners.map(|c| c.to_array())).collect(), 0.0)
+            }
+        }
+    };
     match &nozzle.motion {
-        NozzleMotion::Static { position, .. } | NozzleMotion::Circling { position, .. } => {
-            points.push(*position)
+        NozzleMotion::Static { position, .. } => points.push(*position),
+        NozzleMotion::Circling { position, circle_radius, .. } => {
+            points.push(position.map(|c| c - circle_radius));
+            points.push(position.map(|c| c + circle_radius));
         }
-        NozzleMotion::Waypoints { waypoints } => {
-            points.push(read::DEFAULT_POSITION);
-            points.extend(waypoints.iter().map(|w| w.position));
+        NozzleMotion::Waypoints { waypoints } => points.extend(waypoints.iter().map(|w| w.position)),
+        NozzleMotion::Raster { raster } => {
+            if let Some(t) = targets.iter().find(|t| t.name == raster.target) {
+                let p = &raster.plan;
+                let (anchors, reach) = target_reach(t);
+                let reach = reach + p.standoff + p.lead + p.circle_radius;
+                for a in anchors {
+                    points.push(a.map(|c| c - reach));
+                    points.push(a.map(|c| c + reach));
+                }
+            }
         }
-        NozzleMotion::Raster { .. } => points.push(read::DEFAULT_POSITION),
     }
     for t in targets {
-        let TargetShape::Rectangle { center, size, .. } = &t.shape;
-        let r = size[0].hypot(size[1]) / 2.0;
-        points.push(center.map(|c| c - r));
-        points.push(center.map(|c| c + r));
+        let (anchors, reach) = target_reach(t);
+        for p in anchors {
+            points.push(p.map(|c| c - reach));
+            points.push(p.map(|c| c + reach));
+        }
     }
     for o in obstacles {
         let (anchors, reach): (Vec<[f64; 3]>, f64) = match &o.shape {

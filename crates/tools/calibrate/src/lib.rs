@@ -368,6 +368,9 @@ impl<F: FnMut(&Evaluation)> CostFunction for Problem<'_, F> {
 fn rectangle(sim: &Simulation, target: usize) -> Result<&RectangleSurface, CalibrationError> {
     match sim.targets().get(target).map(|t| &t.surface) {
         Some(Surface::Rectangle(r)) => Ok(r),
+        Some(_) => Err(CalibrationError::Settings(
+            "the first target is not a rectangle: calibration compares profiles on a flat face".into(),
+        )),
         None => Err(CalibrationError::Settings("the scenario has no target to compare with".into())),
     }
 }
@@ -380,7 +383,7 @@ fn field(sim: &Simulation, target: usize) -> Result<&HeightField, CalibrationErr
 /// Where the nozzle's axis at time 0 meets the target, in its (right, up) coordinates, m; the
 /// target's centre when the axis points away from it.
 fn aim_point(sim: &Simulation, target: usize) -> Result<(f64, f64), CalibrationError> {
-    let face = &rectangle(sim, target)?.face;
+    let face = &rectangle(sim, target)?.chart;
     let (frame, _) = sim.nozzle().at(0.0);
     let facing = frame.axis.dot(face.normal);
     if facing >= -1e-9 {

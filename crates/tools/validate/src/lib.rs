@@ -6,7 +6,9 @@
 
 pub mod checks;
 pub mod shotcrete;
+pub mod targets;
 mod shotcrete_report;
+mod targets_report;
 
 use checks::*;
 use spraysim_engine::emission::Direction;
@@ -102,6 +104,8 @@ pub struct Size {
     pub rebound_particles: f64,
     /// Forced rebounds per restitution value.
     pub rebounds: u64,
+    /// Particles of each curved-target run.
+    pub curved_particles: f64,
 }
 
 impl Size {
@@ -112,6 +116,7 @@ impl Size {
             direction_draws: (2e5 * factor) as u64,
             rebound_particles: 2e4 * factor,
             rebounds: (1e5 * factor) as u64,
+            curved_particles: 1e5 * factor,
         }
     }
 }
@@ -139,6 +144,8 @@ pub fn report(size: Size, threads: usize, mut progress: impl FnMut(&str)) -> Rep
     shotcrete_report::cushion_section(&mut w, threads);
     progress("slump");
     shotcrete_report::slump_section(&mut w);
+    progress("curved targets");
+    targets_report::curved_section(&mut w, size.curved_particles, threads);
     progress("restitution and scatter");
     restitution_section(&mut w, size);
     progress("conservation");

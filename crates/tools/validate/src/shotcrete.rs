@@ -308,7 +308,7 @@ pub fn nye_heap(cell: f64) -> NyeHeap {
 /// `s`, e = z + max(n_z, 0) h the elevation of the layer's top (shallow-layer theory).
 pub fn worst_stress_ratio(s: &RectangleSurface, rho: f64, tau: f64) -> f64 {
     let t = s.thickness();
-    let lift = s.face.normal.z.max(0.0);
+    let lift = s.chart.normal.z.max(0.0);
     let g = GRAVITY.length();
     let mut worst = 0.0_f64;
     for i in 0..t.len() as u32 {

@@ -13,6 +13,7 @@ mod disk;
 mod face;
 mod oriented_box;
 mod plane;
+mod shell;
 mod sphere;
 mod triangle;
 
@@ -22,6 +23,7 @@ pub use disk::Disk;
 pub use face::Face;
 pub use oriented_box::OrientedBox;
 pub use plane::Plane;
+pub use shell::CylinderShell;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 
@@ -122,6 +124,8 @@ shapes! {
     Cylinder(Cylinder),
     /// Mesh triangle.
     Triangle(Triangle),
+    /// Open cylindrical shell over a range of angles.
+    Shell(CylinderShell),
 }
 
 /// Smallest root in `[0, 1]` of `a t² + 2 b t + c = 0` for a segment entering a quadric from

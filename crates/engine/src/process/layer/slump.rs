@@ -299,7 +299,7 @@ mod tests {
     fn worst_stress_ratio(s: &RectangleSurface) -> f64 {
         let up = DVec3::Z;
         let t = s.thickness();
-        let lift = s.face.normal.z.max(0.0);
+        let lift = s.chart.normal.z.max(0.0);
         let mut worst = 0.0_f64;
         for i in 0..t.len() as u32 {
             let own = s.point_above(i, 0.0);

@@ -18,13 +18,16 @@ pub use process::{
 pub(crate) use process::{
     ErosionDefaults, ErosionKind, ImpactDefaults, LayerDefaults, ProcessDefaults, ReboundKind,
 };
-pub use run::{Colormap, DomainParams, OutputParams, SimulationParams};
-pub use surfaces::{Edges, MeshParams, ObstacleParams, ObstacleShape, TargetParams, TargetShape};
+pub use run::{Colormap, DomainParams, ExportFormat, OutputParams, SimulationParams};
+pub use surfaces::{
+    Edges, MeshParams, MeshSide, ObstacleParams, ObstacleShape, OpeningParams, ShellSide, TargetParams, TargetShape,
+    mean_plane, opening,
+};
 
 pub(crate) mod read {
     //! The section readers.
     pub(crate) use super::emitter::read as emitter;
-    pub(crate) use super::nozzle::{DEFAULT_POSITION, read as nozzle};
+    pub(crate) use super::nozzle::read as nozzle;
     pub(crate) use super::process::read as process;
     pub(crate) use super::run::{
         read_domain as domain, read_output as output, read_simulation as simulation,

@@ -116,6 +116,37 @@ pub struct OutputParams {
     pub arrays: bool,
     /// Share of impacts written to `impacts.csv`, 0..1.
     pub impact_log: f64,
+    /// 3D files of every target's deposit to write.
+    pub export: Vec<ExportFormat>,
+    /// Most cells of an exported mesh: a finer grid is averaged down by a whole factor.
+    pub export_max_cells: u32,
+    /// Also write the particles in flight at the end as a point cloud (`particles.ply`).
+    pub export_particles: bool,
+}
+
+/// A 3D file format for deposits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExportFormat {
+    /// Stanford PLY, binary: per-vertex thickness and colour, per-face thickness and hits.
+    Ply,
+    /// glTF 2.0 binary: vertex colours, per-vertex thickness as `_THICKNESS`.
+    Glb,
+    /// Legacy VTK polydata, binary: thickness, hits and erosion as cell data.
+    Vtk,
+}
+
+choices!(ExportFormat { "ply" => ExportFormat::Ply, "glb" => ExportFormat::Glb, "vtk" => ExportFormat::Vtk });
+
+impl ExportFormat {
+    /// The file extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            ExportFormat::Ply => "ply",
+            ExportFormat::Glb => "glb",
+            ExportFormat::Vtk => "vtk",
+        }
+    }
 }
 
 /// Reads `[output]`.
@@ -126,6 +157,9 @@ pub(crate) fn read_output(s: &Section<'_>) -> Read<OutputParams> {
         images: s.boolean("images", true)?,
         arrays: s.boolean("arrays", true)?,
         impact_log: s.number("impact_log", Some(0.0), Check::Within(0.0, 1.0), "")?,
+        export: s.choice_list("export")?,
+        export_max_cells: s.integer("export_max_cells", Some(1 << 20), 1, 1 << 24)? as u32,
+        export_particles: s.boolean("export_particles", false)?,
     };
     if p.directory.trim().is_empty() {
         return bad(&s.key("directory"), "must not be empty");

@@ -23,6 +23,13 @@ pub struct TargetParams {
     pub shape: TargetShape,
     /// Thickness of a coating on the surface at the start, which erosion removes, m.
     pub coating: f64,
+    /// The specified thickness band `[min, max]`, m: the metrics report the share of the area
+    /// within it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<[f64; 2]>,
+    /// Cells closer than this to the surface's edges or openings are left out of the thickness
+    /// statistics, m.
+    pub margin: f64,
     /// Impact parameters of this target, where they differ from the process's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub impact: Option<ImpactParams>,
@@ -32,7 +39,7 @@ pub struct TargetParams {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "shape", rename_all = "snake_case")]
 pub enum TargetShape {
-    /// A rectangle with a regular heightfield.
+    /// A rectangle with a regular heightfield, optionally with openings.
     Rectangle {
         /// Centre, m.
         center: [f64; 3],
@@ -49,6 +56,87 @@ pub enum TargetShape {
         /// `"free"`: a slumping layer runs off over the edges; `"held"`: formwork (or a floor
         /// under a wall) holds it.
         edges: Edges,
+        /// Openings cut out of the face (`[[target.opening]]`).
+        #[serde(rename = "opening", skip_serializing_if = "Vec::is_empty")]
+        openings: Vec<OpeningParams>,
+    },
+    /// A cylindrical shell with a heightfield on its unrolled surface: a tunnel lining, a
+    /// shaft, a pipe, a tank.
+    Cylinder {
+        /// Centre of the axis segment, m.
+        center: [f64; 3],
+        /// Direction of the axis.
+        axis: [f64; 3],
+        /// Radius, m.
+        radius: f64,
+        /// Length along the axis, m.
+        length: f64,
+        /// `[start, end]` about the axis, degrees, from `reference` towards `reference × axis`.
+        angles: [f64; 2],
+        /// Direction of angle 0 (made perpendicular to the axis).
+        reference: [f64; 3],
+        /// `"inside"` (a lining) or `"outside"` (a tank) receives the spray.
+        side: ShellSide,
+        /// Heightfield cells `[around, along]`.
+        resolution: [u32; 2],
+        /// Radius over which each stuck particle's volume is spread, m (0: one cell).
+        splat_radius: f64,
+        /// What the shell's edges do to a slumping layer.
+        edges: Edges,
+    },
+    /// A triangle mesh from a file, with a thickness per triangle.
+    Mesh {
+        /// The file and its placement.
+        #[serde(flatten)]
+        mesh: MeshParams,
+        /// `"front"`: the side each triangle's normal points to (right-handed in its corners, the
+        /// outside of a closed STL or OBJ) receives the spray; `"back"`: the other.
+        side: MeshSide,
+    },
+}
+
+/// Which side of a cylindrical shell receives spray.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShellSide {
+    /// The inside: a tunnel lining, a shaft.
+    #[default]
+    Inside,
+    /// The outside: a tank, a pipe.
+    Outside,
+}
+
+choices!(ShellSide { "inside" => ShellSide::Inside, "outside" => ShellSide::Outside });
+
+/// Which side of a mesh's triangles receives spray.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MeshSide {
+    /// The side the triangles' normals point to.
+    #[default]
+    Front,
+    /// The other side.
+    Back,
+}
+
+choices!(MeshSide { "front" => MeshSide::Front, "back" => MeshSide::Back });
+
+/// An opening cut out of a rectangle target, in the face's coordinates: m right of and up from
+/// its centre.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "shape", rename_all = "snake_case")]
+pub enum OpeningParams {
+    /// A rectangle (a window, a door).
+    Rectangle {
+        /// Centre, `[right, up]` from the face's centre, m.
+        center: [f64; 2],
+        /// `[width, height]`, m.
+        size: [f64; 2],
+    },
+    /// A polygon (a box-out), corners in order.
+    Polygon {
+        /// Corners, `[right, up]` from the face's centre, m.
+        corners: Vec<[f64; 2]>,
     },
 }
 
@@ -66,20 +154,51 @@ pub enum Edges {
 choices!(Edges { "free" => Edges::Free, "held" => Edges::Held });
 
 impl TargetParams {
-    /// `[width, height]` of the target's face, m.
+    /// `[width, height]` of the target's unrolled surface, m: a rectangle's size, a shell's arc
+    /// length and length, a mesh's extent on its mean plane (see [`mean_plane`]).
     pub fn size(&self) -> [f64; 2] {
         match &self.shape {
             TargetShape::Rectangle { size, .. } => *size,
+            TargetShape::Cylinder { radius, length, angles, .. } => {
+                [radius * (angles[1] - angles[0]).to_radians(), *length]
+            }
+            TargetShape::Mesh { mesh, .. } => mean_plane(&mesh.triangles).3,
         }
     }
+}
+
+/// The plane a mesh mostly faces: its centre (of the mesh's extent on the plane, on the plane
+/// through its farthest point along the normal), the unit normal (the area-weighted mean of
+/// the triangles'), a unit direction in the plane (up: +z projected, or +x for a mesh facing up
+/// or down), and the extent `[width, height]` of the mesh on it, m.
+pub fn mean_plane(triangles: &[Triangle]) -> (DVec3, DVec3, DVec3, [f64; 2]) {
+    let weighted = triangles.iter().map(|t| t.normal * t.area()).sum::<DVec3>();
+    let normal = weighted.try_normalize().unwrap_or(DVec3::Z);
+    let z = DVec3::Z - normal * normal.z;
+    let up = if z.length() > 0.1 { z.normalize() } else { (DVec3::X - normal * normal.x).normalize() };
+    let right = up.cross(normal);
+    let corners = triangles.iter().flat_map(|t| t.corners);
+    let (lo, hi) = corners.fold(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), |(lo, hi), p| {
+        let q = [p.dot(right), p.dot(up), p.dot(normal)];
+        (std::array::from_fn(|k| lo[k].min(q[k])), std::array::from_fn(|k| hi[k].max(q[k])))
+    });
+    let mid = |k: usize| 0.5 * (lo[k] + hi[k]);
+    let centre = right * mid(0) + up * mid(1) + normal * hi[2];
+    (centre, normal, up, [hi[0] - lo[0], hi[1] - lo[1]])
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum TargetKind {
     Rectangle,
+    Cylinder,
+    Mesh,
 }
 
-choices!(TargetKind { "rectangle" => TargetKind::Rectangle });
+choices!(TargetKind {
+    "rectangle" => TargetKind::Rectangle,
+    "cylinder" => TargetKind::Cylinder,
+    "mesh" => TargetKind::Mesh,
+});
 
 /// One `[[obstacle]]`: a surface without a deposit (rebar, formwork, a floor).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -226,23 +345,58 @@ fn impact_override(
     s.table("impact")?.map(|t| read_impact(&t, &ImpactDefaults::over(process, preset))).transpose()
 }
 
-/// Reads a `[[target]]`.
+/// Reads a `[[target]]`; a mesh is read from `base`.
 pub(crate) fn read_target(
     s: &Section<'_>,
     seen: &mut Vec<String>,
     process: &ImpactParams,
     preset: &ImpactDefaults,
+    base: &Path,
 ) -> Read<TargetParams> {
     let name = name(s, seen)?;
     let role = s.choice("role", Some(Role::Substrate))?;
     let kind = s.choice("shape", Some(TargetKind::Rectangle))?;
     let shape = match kind {
         TargetKind::Rectangle => read_rectangle(s)?,
+        TargetKind::Cylinder => read_cylinder(s)?,
+        TargetKind::Mesh => {
+            TargetShape::Mesh { mesh: read_mesh(s, base)?, side: s.choice("side", Some(MeshSide::Front))? }
+        }
     };
     let coating = s.number("coating", Some(0.0), Check::Within(0.0, 1.0), "m")?;
+    let tolerance = if s.has("tolerance") {
+        let band = s.numbers("tolerance", None, Check::Within(0.0, 100.0), "m")?;
+        if band[0] > band[1] {
+            return bad(&s.key("tolerance"), format!("must be [min, max] with min ≤ max, got {band:?}"));
+        }
+        Some(band)
+    } else {
+        None
+    };
+    let margin = s.number("margin", Some(0.0), Check::Within(0.0, 1e3), "m")?;
     let impact = impact_override(s, process, preset)?;
     s.finish(&format!("a {} target", kind.name()))?;
-    Ok(TargetParams { name, role, shape, coating, impact })
+    Ok(TargetParams { name, role, shape, coating, tolerance, margin, impact })
+}
+
+/// Heightfield cells `[cols, rows]`, whole numbers in 1–4096.
+fn resolution(s: &Section<'_>, default: [f64; 2]) -> Read<[u32; 2]> {
+    let [cols, rows] = s.numbers("resolution", Some(default), Check::Within(1.0, 4096.0), "cells per side")?;
+    if cols.fract() != 0.0 || rows.fract() != 0.0 {
+        return bad(&s.key("resolution"), format!("must be whole numbers of cells, got [{cols}, {rows}]"));
+    }
+    Ok([cols as u32, rows as u32])
+}
+
+/// The splat radius for a grid of `size` (m) and `resolution`: at most half the smaller side
+/// and 32 cells.
+fn splat_radius(s: &Section<'_>, size: [f64; 2], resolution: [u32; 2]) -> Read<f64> {
+    let r = s.number("splat_radius", Some(0.0), Check::Within(0.0, size[0].min(size[1]) / 2.0), "m")?;
+    let cells = r / (size[0] / f64::from(resolution[0])).min(size[1] / f64::from(resolution[1]));
+    if cells > 32.0 {
+        return bad(&s.key("splat_radius"), "spans more than 32 cells; lower it or the resolution");
+    }
+    Ok(r)
 }
 
 fn read_rectangle(s: &Section<'_>) -> Read<TargetShape> {
@@ -251,20 +405,83 @@ fn read_rectangle(s: &Section<'_>) -> Read<TargetShape> {
     let up = s.direction("up", None)?;
     not_parallel(&s.key("up"), up, normal, "normal")?;
     let size = s.numbers("size", None, Check::Positive(1e3), "m")?;
-    let [cols, rows] =
-        s.numbers("resolution", Some([1024.0, 1024.0]), Check::Within(1.0, 4096.0), "cells per side")?;
-    if cols.fract() != 0.0 || rows.fract() != 0.0 {
-        return bad(&s.key("resolution"), format!("must be whole numbers of cells, got [{cols}, {rows}]"));
-    }
-    let resolution = [cols as u32, rows as u32];
-    let splat_radius =
-        s.number("splat_radius", Some(0.0), Check::Within(0.0, size[0].min(size[1]) / 2.0), "m")?;
-    let cells = splat_radius / (size[0] / cols).min(size[1] / rows);
-    if cells > 32.0 {
-        return bad(&s.key("splat_radius"), "spans more than 32 cells; lower it or the resolution");
-    }
+    let resolution = resolution(s, [1024.0, 1024.0])?;
+    let splat_radius = splat_radius(s, size, resolution)?;
     let edges = s.choice("edges", Some(Edges::Free))?;
-    Ok(TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges })
+    let openings = s.tables("opening")?.iter().map(|o| read_opening(o, size)).collect::<Read<Vec<_>>>()?;
+    Ok(TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges, openings })
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum OpeningKind {
+    Rectangle,
+    Polygon,
+}
+
+choices!(OpeningKind { "rectangle" => OpeningKind::Rectangle, "polygon" => OpeningKind::Polygon });
+
+/// Reads one `[[target.opening]]` of a face of `size` (m).
+fn read_opening(s: &Section<'_>, size: [f64; 2]) -> Read<OpeningParams> {
+    let o = match s.choice("shape", Some(OpeningKind::Rectangle))? {
+        OpeningKind::Rectangle => OpeningParams::Rectangle {
+            center: s.numbers("center", None, Check::Within(-1e3, 1e3), "m")?,
+            size: s.numbers("size", None, Check::Positive(1e3), "m")?,
+        },
+        OpeningKind::Polygon => {
+            let corners = s.pairs("corners", None, 1024)?;
+            if corners.len() < 3 {
+                return bad(&s.key("corners"), "must list at least 3 corners");
+            }
+            OpeningParams::Polygon { corners }
+        }
+    };
+    let polygon = opening(&o);
+    if polygon.area() <= 1e-12 {
+        return bad(&s.key("corners"), "must enclose an area");
+    }
+    // Some of the opening must lie on the face: a corner on it, or the face's centre in it.
+    let (hw, hh) = (size[0] / 2.0, size[1] / 2.0);
+    let on_face = polygon.corners.iter().any(|&(u, v)| u.abs() < hw && v.abs() < hh)
+        || [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh), (0.0, 0.0)].iter().any(|&(u, v)| polygon.contains(u, v));
+    if !on_face {
+        return bad(&s.key("center"), "puts the opening outside the face");
+    }
+    s.finish("an opening")?;
+    Ok(o)
+}
+
+/// The engine's polygon of an opening.
+pub fn opening(o: &OpeningParams) -> spraysim_engine::deposit::Opening {
+    use spraysim_engine::deposit::Opening;
+    match o {
+        OpeningParams::Rectangle { center, size } => {
+            Opening::rectangle((center[0], center[1]), (size[0], size[1]))
+        }
+        OpeningParams::Polygon { corners } => Opening { corners: corners.iter().map(|c| (c[0], c[1])).collect() },
+    }
+}
+
+fn read_cylinder(s: &Section<'_>) -> Read<TargetShape> {
+    let center = s.point("center", None)?;
+    let axis = s.direction("axis", None)?;
+    let radius = s.number("radius", None, Check::Positive(1e3), "m")?;
+    let length = s.number("length", None, Check::Positive(1e4), "m")?;
+    let angles = s.numbers("angles", Some([0.0, 360.0]), Check::Within(-720.0, 720.0), "degrees")?;
+    if angles[1] <= angles[0] || angles[1] - angles[0] > 360.0 {
+        let message = format!("must be [start, end] with start < end ≤ start + 360, got {angles:?}");
+        return bad(&s.key("angles"), message);
+    }
+    // Angle 0 horizontal across the axis by default, so that 90° is straight up.
+    let a = DVec3::from_array(axis).normalize();
+    let default = if a.cross(DVec3::Z).length() > 1e-6 { a.cross(DVec3::Z).normalize() } else { DVec3::X };
+    let reference = s.direction("reference", Some(default.to_array()))?;
+    not_parallel(&s.key("reference"), reference, axis, "axis")?;
+    let side = s.choice("side", Some(ShellSide::Inside))?;
+    let resolution = resolution(s, [1024.0, 512.0])?;
+    let size = [radius * (angles[1] - angles[0]).to_radians(), length];
+    let splat_radius = splat_radius(s, size, resolution)?;
+    let edges = s.choice("edges", Some(Edges::Free))?;
+    Ok(TargetShape::Cylinder { center, axis, radius, length, angles, reference, side, resolution, splat_radius, edges })
 }
 
 /// Reads an `[[obstacle]]`; a mesh is read from `base`.
