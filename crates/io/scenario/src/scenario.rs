@@ -159,7 +159,7 @@ impl Scenario {
             read::nozzle(&root.table_or_empty("nozzle")?, &source.base, &targets, simulation.duration)?;
         let domain =
             read::domain(root.table("domain")?.as_ref(), || default_domain(&nozzle, &targets, &obstacles))?;
-        let output = read::output(&root.table_or_empty("output")?)?;
+        let output = read::output(&root.table_or_empty("output")?, process.preset, simulation.duration)?;
         root.finish("a scenario")?;
         Ok(Scenario {
             source: source.clone(),

@@ -5,6 +5,7 @@
 mod emitter;
 mod nozzle;
 mod process;
+mod render;
 mod run;
 mod surfaces;
 
@@ -15,6 +16,7 @@ pub use process::{
     CohesionParams, ErosionParams, ImpactParams, Preset, ProcessParams, ReboundParams, WindowParams,
 };
 pub(crate) use process::{ErosionDefaults, ErosionKind, ImpactDefaults, ProcessDefaults, ReboundKind};
+pub use render::{ParticleColoring, RenderCamera, RenderParams, RenderTime, ViewPreset, point_size};
 pub use run::{Colormap, DomainParams, OutputParams, SimulationParams};
 pub use surfaces::{MeshParams, ObstacleParams, ObstacleShape, TargetParams, TargetShape};
 

@@ -1,6 +1,8 @@
 //! `[simulation]`, `[domain]` and `[output]`: time stepping, the box particles live in, and
 //! what a run writes.
 
+use crate::params::Preset;
+use crate::params::render::{RenderParams, read_render};
 use crate::reader::{Check, Read, Section, bad, choices};
 use serde::Serialize;
 use spraysim_engine::motion::{GRAVITY, Integrator};
@@ -116,16 +118,20 @@ pub struct OutputParams {
     pub arrays: bool,
     /// Share of impacts written to `impacts.csv`, 0..1.
     pub impact_log: f64,
+    /// 3D views drawn during the run and written with its outputs (`[output] render`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render: Option<RenderParams>,
 }
 
-/// Reads `[output]`.
-pub(crate) fn read_output(s: &Section<'_>) -> Read<OutputParams> {
+/// Reads `[output]`; `preset` and `duration` (s) are the run's, for the render settings.
+pub(crate) fn read_output(s: &Section<'_>, preset: Preset, duration: f64) -> Read<OutputParams> {
     let p = OutputParams {
         directory: s.string("directory", Some("out"))?,
         colormap: s.choice("colormap", Some(Colormap::Viridis))?,
         images: s.boolean("images", true)?,
         arrays: s.boolean("arrays", true)?,
         impact_log: s.number("impact_log", Some(0.0), Check::Within(0.0, 1.0), "")?,
+        render: read_render(s, preset, duration)?,
     };
     if p.directory.trim().is_empty() {
         return bad(&s.key("directory"), "must not be empty");
