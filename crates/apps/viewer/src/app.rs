@@ -345,7 +345,7 @@ impl App {
                 ui.horizontal(|ui| {
                     for (c, name) in [(FLYING, "in flight"), (REBOUNDED, "rebounded"), (RELEASED, "released")]
                     {
-                        ui.colored_label(egui::Color32::from_rgb(c[0], c[1], c[2]), *name);
+                        ui.colored_label(egui::Color32::from_rgb(c[0], c[1], c[2]), name);
                     }
                 });
             }

@@ -123,9 +123,10 @@ impl Worker {
     /// Runs until the window hangs up.
     pub fn run(mut self, commands: Receiver<Command>) {
         self.publish();
+        let mut published = Instant::now();
+        let mut changed = false;
         loop {
             let wait = if self.playing { Duration::ZERO } else { Duration::from_millis(100) };
-            let mut changed = false;
             match commands.recv_timeout(wait) {
                 Ok(c) => changed |= self.apply(c),
                 Err(RecvTimeoutError::Disconnected) => return,
@@ -137,8 +138,11 @@ impl Worker {
             if self.playing {
                 changed |= self.advance();
             }
-            if changed {
+            // At most one scene a frame of a 30 Hz display: building one costs time too.
+            if changed && (!self.playing || published.elapsed() >= Duration::from_millis(33)) {
                 self.publish();
+                published = Instant::now();
+                changed = false;
             }
         }
     }

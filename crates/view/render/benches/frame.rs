@@ -27,6 +27,12 @@ fn frame(c: &mut Criterion) {
     group.bench_function("draw and read back, 1280 × 720", |b| {
         b.iter(|| view.render(&scene, &camera).expect("renders"))
     });
+    let one = spraysim_render::GpuOptions { samples: 1, ..Default::default() };
+    if let Ok(mut view) = Offscreen::new(&one, 1280, 720) {
+        group.bench_function("draw and read back, 1280 × 720, 1 sample per pixel", |b| {
+            b.iter(|| view.render(&scene, &camera).expect("renders"))
+        });
+    }
     group.finish();
 }
 

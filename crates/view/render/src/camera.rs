@@ -110,14 +110,8 @@ fn fit(framing: &Framing, dir: DVec3, up: DVec3, fov_y: f64, aspect: f64) -> Cam
     let tan_v = (fov_y / 2.0).tan() * FILL;
     let tan_h = tan_v * aspect;
     let mut distance: f64 = 0.1;
-    for i in 0..8 {
-        let pick = |bit: usize, lo: f64, hi: f64| if i & bit == 0 { lo } else { hi };
-        let corner = DVec3::new(
-            pick(1, framing.min.x, framing.max.x),
-            pick(2, framing.min.y, framing.max.y),
-            pick(4, framing.min.z, framing.max.z),
-        );
-        let rel = corner - centre;
+    for &p in &framing.points {
+        let rel = p - centre;
         let depth = rel.dot(fwd);
         distance =
             distance.max(rel.dot(right).abs() / tan_h - depth).max(rel.dot(up_img).abs() / tan_v - depth);
@@ -187,9 +181,16 @@ mod tests {
     use super::*;
 
     fn framing() -> Framing {
+        let (min, max) = (DVec3::new(-1.0, -1.0, 0.0), DVec3::new(0.0, 1.0, 2.0));
         Framing {
-            min: DVec3::new(-1.0, -1.0, 0.0),
-            max: DVec3::new(0.0, 1.0, 2.0),
+            min,
+            max,
+            points: (0..8)
+                .map(|i| {
+                    let c = |bit: usize, lo: f64, hi: f64| if i & bit == 0 { lo } else { hi };
+                    DVec3::new(c(1, min.x, max.x), c(2, min.y, max.y), c(4, min.z, max.z))
+                })
+                .collect(),
             front: DVec3::NEG_X,
             nozzle: DVec3::new(-1.0, 0.0, 1.0),
             axis: DVec3::X,

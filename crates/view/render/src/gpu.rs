@@ -207,7 +207,7 @@ impl Renderer {
                 "points",
                 ("vs_point", "fs_flat"),
                 flat(wgpu::VertexStepMode::Instance),
-                wgpu::PrimitiveTopology::TriangleList,
+                wgpu::PrimitiveTopology::TriangleStrip,
             ),
             globals,
             bind_group,
@@ -268,7 +268,7 @@ impl Renderer {
         if let Some((b, n)) = self.points.get() {
             pass.set_pipeline(&self.point_pipeline);
             pass.set_vertex_buffer(0, b.slice(..));
-            pass.draw(0..6, 0..n);
+            pass.draw(0..4, 0..n);
         }
     }
 }

@@ -31,14 +31,15 @@ const OBSTACLE: [u8; 4] = [150, 152, 160, 255];
 const NOZZLE: [u8; 4] = [45, 45, 50, 255];
 /// The spray axis while spraying, and the spray cone.
 const AXIS_ON: [u8; 4] = [220, 30, 30, 255];
-const CONE: [u8; 4] = [235, 140, 140, 255];
+const CONE: [u8; 4] = [240, 175, 175, 255];
 /// The spray axis while the nozzle does not spray.
 const AXIS_OFF: [u8; 4] = [120, 120, 120, 255];
-/// The nozzle's path: travelled, and still to come (spraying, and not).
-const PATH_PAST: [u8; 4] = [230, 110, 0, 255];
-const PATH_PAST_IDLE: [u8; 4] = [240, 190, 140, 255];
-const PATH_PLANNED: [u8; 4] = [60, 110, 170, 255];
-const PATH_PLANNED_IDLE: [u8; 4] = [165, 185, 210, 255];
+/// The nozzle's path: travelled (grey), and still to come (green); lighter where the nozzle
+/// does not spray.
+const PATH_PAST: [u8; 4] = [95, 95, 100, 255];
+const PATH_PAST_IDLE: [u8; 4] = [170, 170, 175, 255];
+const PATH_PLANNED: [u8; 4] = [40, 160, 80, 255];
+const PATH_PLANNED_IDLE: [u8; 4] = [150, 210, 165, 255];
 /// Tints of at-risk and failed cells, blended over the colour as on the heatmaps.
 const AT_RISK: [u8; 3] = [255, 150, 0];
 const FAILED: [u8; 3] = [220, 0, 0];
@@ -219,12 +220,15 @@ pub struct Legend {
 }
 
 /// What frames a view: the bounds of what matters and the directions presets are taken from.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Framing {
     /// Lower corner of the targets, the bounded obstacles and the nozzle's path, m.
     pub min: DVec3,
     /// Upper corner, m.
     pub max: DVec3,
+    /// Points whose hull is what a preset must show, m: the targets' outlines, the bounded
+    /// obstacles' box corners and the nozzle's path (a sample of it, for long paths).
+    pub points: Vec<DVec3>,
     /// Unit normal of the first target, towards the side sprayed from (the front view's eye
     /// is on that side).
     pub front: DVec3,
@@ -421,28 +425,36 @@ fn smooth_normals(positions: &[DVec3], triangles: &[[u32; 3]], bare: &[DVec3]) -
 
 /// Bounds of the targets, bounded obstacles and nozzle path, and the directions views take.
 fn framing(sim: &Simulation) -> Framing {
-    let (mut min, mut max) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    let mut grow = |p: DVec3| {
-        min = min.min(p);
-        max = max.max(p);
-    };
+    let mut points = Vec::new();
     for t in sim.targets() {
-        // A coarse mesh is enough for bounds: its outline is the surface's.
-        t.surface.mesh(false, 64).positions.iter().for_each(|&p| grow(p));
+        // A coarse mesh is enough: its outline is the surface's.
+        points.extend(t.surface.mesh(false, 256).positions);
     }
     for o in &sim.config().obstacles {
         for s in &o.shapes {
             if let Some(b) = s.aabb() {
-                grow(b.min);
-                grow(b.max);
+                let c = |i: usize, lo: f64, hi: f64| if i == 0 { lo } else { hi };
+                for i in 0..8 {
+                    points.push(DVec3::new(
+                        c(i & 1, b.min.x, b.max.x),
+                        c(i & 2, b.min.y, b.max.y),
+                        c(i & 4, b.min.z, b.max.z),
+                    ));
+                }
             }
         }
     }
-    for w in sim.nozzle().waypoints() {
-        grow(w.position);
+    let w = sim.nozzle().waypoints();
+    points.extend(w.iter().step_by(w.len().div_ceil(500).max(1)).map(|w| w.position));
+    points.extend(w.last().map(|w| w.position));
+    let (mut min, mut max) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for &p in &points {
+        min = min.min(p);
+        max = max.max(p);
     }
     if !(min.is_finite() && max.is_finite()) {
         (min, max) = (sim.config().domain.min, sim.config().domain.max);
+        points = vec![min, max];
     }
     let (frame, _) = sim.nozzle().at(sim.time());
     let front = sim
@@ -457,7 +469,7 @@ fn framing(sim: &Simulation) -> Framing {
         .unwrap_or(-frame.axis);
     let reach = (sim.config().domain.max - sim.config().domain.min).length();
     let aim = aim_distance(sim, frame.position, frame.axis, reach);
-    Framing { min, max, front, nozzle: frame.position, axis: frame.axis, aim }
+    Framing { min, max, points, front, nozzle: frame.position, axis: frame.axis, aim }
 }
 
 /// Distance from `p` along `axis` to the first target or obstacle within `reach` (m), or half
@@ -487,8 +499,8 @@ fn add_nozzle(mesh: &mut Mesh, lines: &mut Vec<ColorVertex>, sim: &Simulation, f
         let half = sim.config().emitter.cone_half_angle.min(1.4);
         let r = framing.aim * half.tan();
         let (u, v) = (frame.width_axis, frame.height_axis);
-        for k in 0..16 {
-            let a = std::f64::consts::TAU * f64::from(k) / 16.0;
+        for k in 0..8 {
+            let a = std::f64::consts::TAU * f64::from(k) / 8.0;
             lines.push(ColorVertex::new(p, CONE));
             lines.push(ColorVertex::new(hit + (u * a.cos() + v * a.sin()) * r, CONE));
         }
@@ -536,7 +548,7 @@ fn particles(sim: &Simulation, opts: &SceneOptions, vmax: f64) -> (Vec<ColorVert
     }
     let keep = opts.max_particles as f64 / in_flight as f64;
     let speed_map = Colormap::Turbo;
-    let mut out = Vec::with_capacity(in_flight.min(opts.max_particles) + opts.max_particles / 100);
+    let mut out = Vec::with_capacity(in_flight.min(opts.max_particles));
     for i in 0..s.len() {
         let f = s.flags[i];
         if f & flags::ALIVE == 0 || (keep < 1.0 && !sampled(s.id[i], keep)) {

@@ -56,12 +56,12 @@ fn vs_line(@location(0) pos: vec3<f32>, @location(1) color: vec4<f32>) -> FlatOu
     return out;
 }
 
-// One instance a particle; the six corners of its square come from the vertex index.
+// One instance a particle, drawn as a strip of two triangles whose four corners come from the
+// vertex index (four vertices a particle rather than six: the vertex stage dominates).
 @vertex
 fn vs_point(@builtin(vertex_index) vi: u32, @location(0) center: vec3<f32>, @location(1) color: vec4<f32>) -> FlatOut {
-    var corners = array<vec2<f32>, 6>(
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    var corners = array<vec2<f32>, 4>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(-1.0, 1.0), vec2<f32>(1.0, 1.0),
     );
     let c = globals.view_proj * vec4<f32>(center, 1.0);
     // Half the size in clip units times w: a fixed size in pixels at any depth.
