@@ -391,11 +391,12 @@ fn add_target(mesh: &mut Mesh, t: &Target, field: Field, max: f64, opts: &SceneO
         if opts.show.deposit && max > 0.0 && values.is_some() && (value > 0.0 || field == Field::Coating) {
             let c = heatmap::color(opts.colormap, value / max).0;
             color = [c[0], c[1], c[2], 255];
-            if mark[v] > 0 {
-                let tint = if mark[v] == 1 { AT_RISK } else { FAILED };
-                for (c, t) in color.iter_mut().zip(tint) {
-                    *c = ((u16::from(*c) + 3 * u16::from(t)) / 4) as u8;
-                }
+        }
+        // Failed cells may have lost their layer: they are tinted whatever their colour.
+        if opts.show.deposit && mark[v] > 0 {
+            let tint = if mark[v] == 1 { AT_RISK } else { FAILED };
+            for (c, t) in color.iter_mut().zip(tint) {
+                *c = ((u16::from(*c) + 3 * u16::from(t)) / 4) as u8;
             }
         }
         mesh.push_vertex(positions[v], normals[v], color);
@@ -571,6 +572,49 @@ fn particles(sim: &Simulation, opts: &SceneOptions, vmax: f64) -> (Vec<ColorVert
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn sim(scenario: &Scenario, duration: f64) -> Simulation {
+        let sc = scenario.with("simulation.duration", duration).expect("valid");
+        let mut sim = sc.build().expect("builds");
+        sim.run(|_| {});
+        sim
+    }
+
+    #[test]
+    fn failed_and_at_risk_cells_are_tinted_red_and_orange() {
+        let sc = Scenario::default_scene().with("target[0].resolution", vec![64.0, 64.0]).expect("valid");
+        let s = sim(&sc, 0.05);
+        let mut wall = s.targets()[0].clone();
+        let cells = wall.failure_mask.len();
+        wall.failure_mask = (0..cells).map(|c| if c < cells / 2 { 2 } else { 1 }).collect();
+        let mut mesh = Mesh::default();
+        let opts = SceneOptions::default();
+        add_target(&mut mesh, &wall, Field::Thickness, 1e-3, &opts);
+        // Bare cells blended with the tints: reddish in the lower half, orange in the upper.
+        let first = mesh.vertices[0].color;
+        let last = mesh.vertices[mesh.vertices.len() - 1].color;
+        assert!(first[0] > 200 && first[1] < 80, "{first:?}");
+        assert!(last[0] > 200 && (100..180).contains(&last[1]), "{last:?}");
+        let hidden = SceneOptions { show: Show { deposit: false, ..Show::default() }, ..opts };
+        let mut bare = Mesh::default();
+        add_target(&mut bare, &wall, Field::Thickness, 1e-3, &hidden);
+        assert!(bare.vertices.iter().all(|v| v.color == BARE));
+    }
+
+    #[test]
+    fn blasting_colours_the_erosion_and_says_so_in_the_legend() {
+        let text = spraysim::scenario::DEFAULT_SCENE
+            .replace("preset = \"shotcrete\"", "preset = \"blasting\"\n[process.erosion]\nmodel = \"oka\"")
+            .replace("cone_angle = 18.0", "cone_angle = 15.0")
+            .replace("resolution = [1024, 1024]", "resolution = [64, 64]\ncoating = 0.0001");
+        let sc = Scenario::from_toml(&text, "blasting").expect("valid");
+        let s = sim(&sc, 0.05);
+        let scene = Scene::build(&s, &SceneOptions::default());
+        let legend = scene.legend.expect("a legend");
+        assert!(legend.label.starts_with("eroded ["), "{}", legend.label);
+        let coating = Scene::build(&s, &SceneOptions { field: Field::Coating, ..SceneOptions::default() });
+        assert!(coating.legend.expect("a legend").label.starts_with("coating ["));
+    }
 
     #[test]
     fn a_sample_keeps_about_its_share_and_the_same_particles() {

@@ -118,8 +118,8 @@ pub struct RenderParams {
     pub max_particles: u64,
 }
 
-/// Particle size in pixels for each process, after the paper's Table 1: coarse wet-mix lumps
-/// are drawn larger than paint droplets, grit in between.
+/// Default particle size in pixels for each process: coarse wet-mix lumps are drawn larger
+/// than paint droplets, grit in between (`point_size` sets any other).
 pub fn point_size(preset: Preset) -> f64 {
     match preset {
         Preset::Shotcrete => 3.0,
