@@ -13,6 +13,7 @@ and, inside one Python process, `Simulation.run()` alone (no start-up, no output
 """
 
 import argparse
+import os
 import pathlib
 import statistics
 import subprocess
@@ -59,7 +60,8 @@ def main():
             start = time.perf_counter()
             sim.run()
             inproc.append(time.perf_counter() - start)
-    print(f"default scene, {a.threads} threads, median of {a.repeats} (min–max), wall seconds")
+    load = ", load average before: %.2f" % os.getloadavg()[0] if hasattr(os, "getloadavg") else ""
+    print(f"default scene, {a.threads} threads, median of {a.repeats} (min–max), wall seconds{load}")
     print(f"{'what':<48}{'median':>8}{'min':>8}{'max':>8}")
     for name, t in times.items():
         print(f"{name:<48}{statistics.median(t):>8.3f}{min(t):>8.3f}{max(t):>8.3f}")

@@ -9,6 +9,7 @@ figure drops towards 1.
 """
 
 import argparse
+import os
 import statistics
 import threading
 import time
@@ -42,6 +43,7 @@ def main():
         "run_many(threads=1)": lambda: spraysim.run_many(scenarios, threads=1),
         "run_many(threads=2)": lambda: spraysim.run_many(scenarios, threads=2),
     }
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     times = {k: [] for k in cases}
     for _ in range(a.repeats):
         for name, f in cases.items():
@@ -49,7 +51,8 @@ def main():
             f()
             times[name].append(time.perf_counter() - start)
     med = {k: statistics.median(v) for k, v in times.items()}
-    print(f"default scene, {a.duration} s simulated each, median of {a.repeats}, wall seconds")
+    print(f"default scene, {a.duration} s simulated each, median of {a.repeats}, wall seconds, "
+          f"load average before: {load:.2f}")
     for name, t in med.items():
         print(f"{name:<40}{t:>8.3f}")
     seq = med["two simulations one after the other"]

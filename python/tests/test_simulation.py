@@ -116,6 +116,21 @@ def test_a_view_outlives_its_simulation_and_restores(short):
     np.testing.assert_array_equal(view, frozen)
 
 
+def test_maps_cannot_be_taken_while_the_simulation_runs(short):
+    sim = Simulation(short)
+    refusals = []
+
+    def progress(t, end):
+        # Called between two slices of the run, which holds the simulation.
+        try:
+            sim.thickness("wall")
+        except RuntimeError as e:
+            refusals.append(str(e))
+
+    sim.run(progress=progress)
+    assert refusals and "borrowed" in refusals[0]
+
+
 def test_particles_are_the_ones_in_flight(short):
     sim = Simulation(short)
     sim.step(100)

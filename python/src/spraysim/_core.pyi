@@ -4,10 +4,24 @@ SI units throughout (m, s, kg); angles in radians in code (degrees in scenario f
 """
 
 import os
-from typing import Any, Callable, Iterable, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union, overload
+from typing import Any, Callable, Iterable, Literal, Mapping, Optional, Tuple, TypedDict, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
+
+__all__ = [
+    "ALIVE",
+    "HIT_SUBSTRATE",
+    "RELEASED",
+    "Scenario",
+    "ScenarioError",
+    "Simulation",
+    "Snapshot",
+    "presets",
+    "presets_toml",
+    "run_many",
+    "__version__",
+]
 
 __version__: str
 
@@ -18,7 +32,7 @@ HIT_SUBSTRATE: int
 RELEASED: int
 """Status bit: material released by a cohesive failure, not a particle from the nozzle."""
 
-ScenarioSource = Union["Scenario", Mapping[str, Any], str, "os.PathLike[str]", None]
+_ScenarioSource = Union["Scenario", Mapping[str, Any], str, "os.PathLike[str]", None]
 """A scenario, a dict shaped like the TOML file, a file path, or None (the default scene)."""
 
 class ScenarioError(ValueError):
@@ -36,6 +50,7 @@ class ScenarioError(ValueError):
     message: str
     """What is wrong."""
 
+@final
 class Scenario:
     """A complete, validated, immutable scenario: every default filled in (``docs/scenario.md``
     lists every key with its unit and default).
@@ -45,7 +60,7 @@ class Scenario:
     ``Scenario(dict)`` a dict shaped like the file. Equal when they resolve to the same values.
     """
 
-    def __init__(self, source: ScenarioSource = None) -> None: ...
+    def __new__(cls, source: _ScenarioSource = None) -> "Scenario": ...
     @staticmethod
     def default() -> "Scenario":
         """The built-in default scene."""
@@ -91,6 +106,7 @@ class Scenario:
     def target_names(self) -> list[str]:
         """The targets' names, in file order."""
 
+@final
 class Snapshot:
     """A saved state of a :class:`Simulation`; ``Simulation.restore`` continues from it exactly
     as the original did. Immutable; restore it as often as you like."""
@@ -102,7 +118,7 @@ class Snapshot:
     def steps_done(self) -> int:
         """Steps taken up to the saved state."""
 
-class Particles(TypedDict):
+class _Particles(TypedDict):
     """The particles in flight, one row each (``Simulation.particles()``)."""
 
     position: npt.NDArray[np.float64]
@@ -118,7 +134,7 @@ class Particles(TypedDict):
     state: npt.NDArray[np.uint8]
     """(n,) status bits: ``ALIVE | HIT_SUBSTRATE | RELEASED``."""
 
-class Nozzle(TypedDict):
+class _Nozzle(TypedDict):
     """The nozzle now (``Simulation.nozzle()``)."""
 
     position: npt.NDArray[np.float64]
@@ -129,16 +145,16 @@ class Nozzle(TypedDict):
     """(3,) velocity along its path, m/s."""
     spraying: bool
 
-class Waypoint(TypedDict, total=False):
+class _Waypoint(TypedDict, total=False):
     """A waypoint of a nozzle path: ``time`` (s), ``position`` (m), ``axis`` (unit vector),
     ``spray`` (spray from here to the next waypoint; default True)."""
 
     time: float
-    position: Sequence[float]
-    axis: Sequence[float]
+    position: npt.ArrayLike
+    axis: npt.ArrayLike
     spray: bool
 
-class TargetInfo(TypedDict):
+class _TargetInfo(TypedDict):
     """A target's geometry (``Simulation.target_info``)."""
 
     name: str
@@ -158,6 +174,7 @@ class TargetInfo(TypedDict):
     """Unit vector ``up × normal`` along which columns grow (the viewer's right, looking at
     the target from the spray side)."""
 
+@final
 class Simulation:
     """A running simulation of a scenario.
 
@@ -167,7 +184,7 @@ class Simulation:
     leaving the simulation valid at the step it reached.
     """
 
-    def __init__(self, scenario: ScenarioSource = None, threads: int = 0) -> None: ...
+    def __new__(cls, scenario: _ScenarioSource = None, threads: int = 0) -> "Simulation": ...
     def step(self, n: int = 1) -> None:
         """Advances by ``n`` time steps Δt (also past the configured duration)."""
     def run(
@@ -202,7 +219,7 @@ class Simulation:
     @property
     def target_names(self) -> list[str]: ...
     def emitted(self) -> Tuple[int, float]:
-        """Particles emitted so far: ``(count, volume in m³)``."""
+        """_Particles emitted so far: ``(count, volume in m³)``."""
     def metrics(self) -> dict[str, Any]:
         """The results so far, equal to what ``metrics.json`` holds."""
     def metrics_json(self) -> str:
@@ -219,7 +236,7 @@ class Simulation:
         """An independent copy that continues exactly as this one would."""
     def __copy__(self) -> "Simulation": ...
     def __deepcopy__(self, memo: Any) -> "Simulation": ...
-    def particles(self) -> Particles:
+    def particles(self) -> _Particles:
         """The particles in flight now, as numpy arrays."""
     def thickness(self, target: Union[str, int], copy: bool = False) -> npt.NDArray[np.float64]:
         """Deposited thickness, m: a (rows, cols) array. Row 0 is the target's bottom edge (rows
@@ -231,21 +248,21 @@ class Simulation:
         """Impacts per cell (stuck or rebounded), laid out as ``thickness``."""
     def erosion(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
         """Eroded depth per cell, m (a copy), or None without erosion."""
-    def target_info(self, target: Union[str, int]) -> TargetInfo:
+    def target_info(self, target: Union[str, int]) -> _TargetInfo:
         """A target's geometry."""
-    def nozzle(self) -> Nozzle:
+    def nozzle(self) -> _Nozzle:
         """The nozzle's pose, velocity and spray state now."""
     def set_nozzle(
         self,
-        position: Sequence[float],
-        axis: Optional[Sequence[float]] = None,
+        position: npt.ArrayLike,
+        axis: Optional[npt.ArrayLike] = None,
         spray: bool = True,
     ) -> None:
         """Holds the nozzle at ``position`` (m) spraying along ``axis`` (the present axis when
         None) from the next step on (closed-loop control)."""
     def set_nozzle_path(
         self,
-        waypoints: Iterable[Union[Waypoint, Tuple[Any, ...]]],
+        waypoints: Iterable[Union[_Waypoint, Mapping[str, Any], Tuple[Any, ...]]],
         roll: Optional[float] = None,
     ) -> None:
         """Replaces the nozzle's path from the next step on: waypoints in absolute simulated
@@ -263,7 +280,7 @@ def presets_toml() -> str:
 
 @overload
 def run_many(
-    scenarios: Iterable[ScenarioSource], threads: int = 0, maps: Literal[False] = False
+    scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[False] = False
 ) -> list[dict[str, Any]]:
     """Runs every scenario to its end in parallel inside Rust on ``threads`` threads (0: one
     per core), releasing the interpreter. Returns each run's metrics (equal to its
@@ -272,5 +289,5 @@ def run_many(
     runs."""
 @overload
 def run_many(
-    scenarios: Iterable[ScenarioSource], threads: int = 0, maps: Literal[True] = ...
+    scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[True] = ...
 ) -> list[Tuple[dict[str, Any], dict[str, npt.NDArray[np.float64]]]]: ...

@@ -47,6 +47,8 @@ pub struct PySimulation {
 pub struct PySnapshot {
     sim: Simulation,
     scenario: Scenario,
+    /// Worker threads of the simulation saved (its clone shares that simulation's pool).
+    threads: usize,
 }
 
 #[pymethods]
@@ -222,7 +224,7 @@ impl PySimulation {
 
     /// Saves the present state; `restore` continues from it exactly as this simulation would.
     fn snapshot(&self) -> PySnapshot {
-        PySnapshot { sim: self.held.sim.clone(), scenario: self.scenario.clone() }
+        PySnapshot { sim: self.held.sim.clone(), scenario: self.scenario.clone(), threads: self.threads }
     }
 
     /// Returns to a saved state (of this simulation or another one). Arrays taken earlier with
@@ -230,7 +232,9 @@ impl PySimulation {
     fn restore(&mut self, snapshot: &Bound<'_, PySnapshot>) -> PyResult<()> {
         let s = snapshot.get();
         let mut sim = s.sim.clone();
-        sim.set_threads(self.threads).map_err(|e| setup_error(&e))?;
+        if s.threads != self.threads {
+            sim.set_threads(self.threads).map_err(|e| setup_error(&e))?;
+        }
         let old = std::mem::replace(&mut self.held, Held::new(sim));
         self.scenario = s.scenario.clone();
         // Arrays still viewing the old state keep it alive; the others let it go.

@@ -54,7 +54,8 @@ pub fn grid<'py, T: Element + Copy>(
     data: impl Fn(&Target) -> &[T],
 ) -> PyResult<Bound<'py, PyAny>> {
     let py = slf.py();
-    let this = slf.borrow();
+    // Refused (RuntimeError) while another thread runs this simulation.
+    let this = slf.try_borrow()?;
     let t = &this.held.sim.targets()[target_index(&this.held.sim, target)?];
     let view = ArrayView2::from_shape(shape(t), data(t))
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("target {}: {e}", t.name)))?;
