@@ -36,16 +36,8 @@ pub fn run_many<'py>(
             .map_err(|e| PyValueError::new_err(format!("scenarios[{i}]: {}", setup_error(&e))))?;
         sims.push(sim);
     }
-    let pool = match threads {
-        0 => None,
-        n => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| PyValueError::new_err(format!("cannot start {n} worker threads: {e}")))?,
-        ),
-    };
-    work::run_all(py, &mut sims, pool.as_ref())?;
+    let pool = work::pool(threads)?;
+    work::run_all(py, &mut sims, pool.as_deref())?;
     sims.iter().map(|sim| result(py, sim, maps)).collect()
 }
 

@@ -39,6 +39,9 @@ pub struct PySimulation {
     retired: Vec<Held>,
     scenario: Scenario,
     threads: usize,
+    /// The worker pool its slices run on (None: rayon's global pool); the engine's own pool is
+    /// left unset, so that its parallel stages run on this one.
+    pool: Option<Arc<rayon::ThreadPool>>,
 }
 
 /// A saved state of a `Simulation` (`Simulation.snapshot()`): `Simulation.restore` continues
@@ -47,8 +50,6 @@ pub struct PySimulation {
 pub struct PySnapshot {
     sim: Simulation,
     scenario: Scenario,
-    /// Worker threads of the simulation saved (its clone shares that simulation's pool).
-    threads: usize,
 }
 
 #[pymethods]
@@ -70,12 +71,6 @@ impl PySnapshot {
     }
 }
 
-fn build(scenario: &Scenario, threads: usize) -> PyResult<Simulation> {
-    let mut sim = Simulation::new(scenario.config()).map_err(|e| setup_error(&e))?;
-    sim.set_threads(threads).map_err(|e| setup_error(&e))?;
-    Ok(sim)
-}
-
 /// Steps at which simulated time first reaches `until` (s), for time step `dt` (s).
 fn steps_for(until: f64, dt: f64) -> PyResult<u64> {
     if !until.is_finite() || until < 0.0 {
@@ -91,15 +86,16 @@ impl PySimulation {
     #[pyo3(signature = (scenario = None, threads = 0))]
     fn new(py: Python<'_>, scenario: Option<&Bound<'_, PyAny>>, threads: usize) -> PyResult<Self> {
         let scenario = scenario_from(py, scenario)?;
-        let sim = build(&scenario, threads)?;
-        Ok(PySimulation { held: Held::new(sim), retired: Vec::new(), scenario, threads })
+        let sim = Simulation::new(scenario.config()).map_err(|e| setup_error(&e))?;
+        let pool = work::pool(threads)?;
+        Ok(PySimulation { held: Held::new(sim), retired: Vec::new(), scenario, threads, pool })
     }
 
     /// Advances the simulation by `n` time steps Δt (also past the configured duration).
     #[pyo3(signature = (n = 1))]
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
         let until = self.held.sim.steps_done().saturating_add(n);
-        work::run_to(py, &mut self.held.sim, until, |_| Ok(()))
+        work::run_to(py, &mut self.held.sim, self.pool.as_deref(), until, |_| Ok(()))
     }
 
     /// Runs until simulated time reaches `until` (s; the configured duration when None).
@@ -119,7 +115,7 @@ impl PySimulation {
         };
         let end = steps as f64 * dt;
         let report = progress::Report::new(py, progress, end)?;
-        work::run_to(py, &mut self.held.sim, steps, |s| report.tick(py, s.time()))?;
+        work::run_to(py, &mut self.held.sim, self.pool.as_deref(), steps, |s| report.tick(py, s.time()))?;
         report.finish(py, self.held.sim.time())
     }
 
@@ -167,7 +163,7 @@ impl PySimulation {
 
     #[setter]
     fn set_threads(&mut self, threads: usize) -> PyResult<()> {
-        self.held.sim.set_threads(threads).map_err(|e| setup_error(&e))?;
+        self.pool = work::pool(threads)?;
         self.threads = threads;
         Ok(())
     }
@@ -224,18 +220,14 @@ impl PySimulation {
 
     /// Saves the present state; `restore` continues from it exactly as this simulation would.
     fn snapshot(&self) -> PySnapshot {
-        PySnapshot { sim: self.held.sim.clone(), scenario: self.scenario.clone(), threads: self.threads }
+        PySnapshot { sim: self.held.sim.clone(), scenario: self.scenario.clone() }
     }
 
     /// Returns to a saved state (of this simulation or another one). Arrays taken earlier with
     /// `copy=False` keep showing the state they were taken from.
     fn restore(&mut self, snapshot: &Bound<'_, PySnapshot>) -> PyResult<()> {
         let s = snapshot.get();
-        let mut sim = s.sim.clone();
-        if s.threads != self.threads {
-            sim.set_threads(self.threads).map_err(|e| setup_error(&e))?;
-        }
-        let old = std::mem::replace(&mut self.held, Held::new(sim));
+        let old = std::mem::replace(&mut self.held, Held::new(s.sim.clone()));
         self.scenario = s.scenario.clone();
         // Arrays still viewing the old state keep it alive; the others let it go.
         self.retired.push(old);
@@ -250,6 +242,7 @@ impl PySimulation {
             retired: Vec::new(),
             scenario: self.scenario.clone(),
             threads: self.threads,
+            pool: self.pool.clone(),
         }
     }
 
