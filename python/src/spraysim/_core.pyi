@@ -247,7 +247,7 @@ class Simulation:
     def hits(self, target: Union[str, int], copy: bool = False) -> npt.NDArray[np.uint32]:
         """Impacts per cell (stuck or rebounded), laid out as ``thickness``."""
     def erosion(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
-        """Eroded depth per cell, m (a copy), or None without erosion."""
+        """Depth eroded per cell, coating and substrate together, m (a copy), or None without erosion."""
     def target_info(self, target: Union[str, int]) -> _TargetInfo:
         """A target's geometry."""
     def nozzle(self) -> _Nozzle:

@@ -72,7 +72,7 @@ pub fn grid<'py, T: Element + Copy>(
     Ok(array.into_any())
 }
 
-/// The eroded depth of a target, a copy, or None.
+/// The depth eroded per cell of a target, coating and substrate together, a copy, or None.
 pub fn erosion<'py>(
     py: Python<'py>,
     sim: &Simulation,
@@ -80,7 +80,8 @@ pub fn erosion<'py>(
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
     let t = &sim.targets()[target_index(sim, target)?];
     let Some(e) = &t.erosion else { return Ok(None) };
-    let view = ArrayView2::from_shape(shape(t), e.eroded.as_slice())
+    let depth: Vec<f64> = (0..e.coating.len()).map(|c| e.eroded(c)).collect();
+    let view = ArrayView2::from_shape(shape(t), depth.as_slice())
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     Ok(Some(view.to_pyarray(py).into_any()))
 }
