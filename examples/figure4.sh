@@ -13,17 +13,19 @@ view=(--set 'output.render={at=[16.0], size=[640,400], eye=[-2.6,-1.8,2.1], targ
 for scene in figure4a_shotcrete_rebar figure4b_shotcrete figure4c_painting figure4d_blasting; do
     ./target/release/spraysim run "examples/$scene.toml" -o "out/$scene" -q "${view[@]}"
     cp "out/$scene/view_16.000s.png" "docs/images/figure4/${scene}_3d.png"
-    cp "out/$scene/wall_thickness.png" "docs/images/figure4/${scene}_thickness.png"
     cp "out/$scene/wall_hits.png" "docs/images/figure4/${scene}_hits.png"
-    if [ -f "out/$scene/wall_erosion.png" ]; then
-        cp "out/$scene/wall_erosion.png" "docs/images/figure4/${scene}_erosion.png"
-    fi
+    # Maps that have something to show: a deposit, or the coat left and the steel worn.
+    for map in thickness coating erosion; do
+        if [ -f "out/$scene/wall_$map.png" ]; then
+            cp "out/$scene/wall_$map.png" "docs/images/figure4/${scene}_$map.png"
+        fi
+    done
     python3 - "out/$scene/metrics.json" "$scene" <<'PY' 2>/dev/null || true
 import json, sys
 m = json.load(open(sys.argv[1]))
 w = m["targets"][0]
 pct = lambda x: "n/a" if x is None else f"{100 * x:.1f} %"
-print(f"{sys.argv[2]}: transfer efficiency {pct(m['transfer_efficiency'])}, rebound ratio {pct(m['rebound_ratio'])}, "
+print(f"{sys.argv[2]}: transfer efficiency {pct(m['transfer_efficiency'])}, rebound {pct(m['rebound_ratio'])}, "
       f"wall mean {1e3 * w['thickness']['mean']:.2f} mm, hits {w['hits']}, failures {len(m['failures']['events'])}"
       + (f", cleaned {100 * w['erosion']['cleaned_fraction']:.1f} % of the wall" if w.get('erosion') and w['erosion']['cleaned_fraction'] is not None else ""))
 PY

@@ -77,13 +77,17 @@ pub struct TargetConfig {
     pub erosion: Option<ErosionConfig>,
 }
 
-/// Wear of a target by abrasive impacts.
+/// Wear of a target by abrasive impacts: a coating (paint, epoxy) on a substrate (steel), each
+/// with its own resistance. An impact wears the coating where there is some left, and the
+/// substrate with what the coating did not absorb.
 #[derive(Clone, Debug)]
 pub struct ErosionConfig {
-    /// Volume removed per impact.
-    pub law: Arc<dyn ErosionLaw>,
-    /// Thickness of a coating on the surface at the start, which erosion removes, m.
+    /// Thickness of the coating at the start, m (0: bare substrate).
     pub coating: f64,
+    /// Volume of coating one impact removes.
+    pub coating_law: Arc<dyn ErosionLaw>,
+    /// Volume of substrate one impact removes.
+    pub substrate_law: Arc<dyn ErosionLaw>,
 }
 
 /// A surface that collects no deposit (rebar, formwork, a floor).
@@ -192,8 +196,7 @@ impl SimulationConfig {
             scatter: 5f64.to_radians(),
             rest_speed: 0.5,
             rest_max_slope: 90f64.to_radians(),
-            cushion_factor: 1.0,
-            cushion_thickness: 0.0,
+            cushion_radius: 0.0,
         };
         let face = Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::NEG_X, DVec3::Z, [2.0, 2.0]);
         SimulationConfig {

@@ -22,7 +22,8 @@ pub struct ImpactEvent {
     pub surface: SurfaceId,
     /// Whether the particle stuck (else it rebounded).
     pub stuck: bool,
-    /// Volume eroded from the target, m³.
+    /// Volume eroded from the target, m³ (from the coating where the struck cell had some at
+    /// the start of the step, else from the substrate).
     pub eroded: f32,
     /// The particle's emission index.
     pub particle: u32,

@@ -35,8 +35,11 @@ pub struct PathMetrics {
     pub standoff: Option<Range>,
     /// Angle of the spray axis to the substrate's normal (0: square on), degrees.
     pub angle: Option<Range>,
-    /// Travel speed of the nozzle, m/s.
-    pub speed: Option<Range>,
+    /// Travel speed along the path (without a superposed circle), m/s: judged against the
+    /// window.
+    pub travel_speed: Option<Range>,
+    /// The nozzle's total speed, circle included, m/s (`outside_share` is 0: no window).
+    pub nozzle_speed: Option<Range>,
 }
 
 /// Cohesive failures and what became of the released material.
@@ -45,23 +48,28 @@ pub struct PathMetrics {
 pub struct FailureMetrics {
     /// Every failure, in time order.
     pub events: Vec<FailureEvent>,
-    /// Particles released (one per failed or dripping cell) and their volume.
+    /// Particles released (one per failed, dripping or run-off cell) and their volume.
     pub released: Amount,
     /// Of those, what dripped off sagging films.
     pub dripped: Amount,
+    /// Of those, what slumped over the edges of targets.
+    pub ran_off: Amount,
     /// Where the released particles are now.
     pub released_fates: Fates,
 }
 
-/// Where the emitted volume is now, m³: `residual` is what the other terms miss (rounding of
-/// single-precision particle volumes only).
+/// Where the emitted volume is now, m³, from the deposit maps (Σ thickness × cell area) and
+/// the fates: `residual` is what the other terms miss (rounding of single-precision particle
+/// volumes only), so a map that lost material shows here.
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VolumeBalance {
     /// Emitted by the nozzle.
     pub emitted: f64,
-    /// In the targets' layers and on their backs.
-    pub on_targets: f64,
+    /// In the deposit maps of every target: Σ thickness × cell area.
+    pub in_maps: f64,
+    /// Stuck on the backs of targets, which have no map.
+    pub on_backs: f64,
     /// On obstacles.
     pub on_obstacles: f64,
     /// Left the domain.
@@ -146,11 +154,24 @@ pub struct TargetMetrics {
     pub role: Role,
     /// Impacts, stuck or rebounded, either side.
     pub hits: u64,
-    /// Stuck on the front, in the heightfield.
+    /// Stuck on the front, in the heightfield (adhering or loose).
     pub stuck: Amount,
+    /// Of those, the rebounds that came to rest loose: on the surface, not in place.
+    pub loose: Amount,
+    /// Of those, the rebounds that adhered where they landed again: in place, but as trapped
+    /// rebound (ACI 506R: a defect on floors), not as sprayed material.
+    pub trapped: Amount,
+    /// Material delivered: particles whose first substrate impact was here.
+    pub delivered: Amount,
+    /// Volume in place in the layer now: adhering, minus what fell or ran off, m³.
+    pub in_place: f64,
+    /// Rebound as ACI 506R counts it, for a substrate: the share of `delivered` not in place;
+    /// `null` for a collector or before anything was delivered.
+    pub rebound_ratio: Option<f64>,
     /// Stuck on the back (no heightfield).
     pub stuck_on_back: Amount,
-    /// Σ thickness × cell area, m³ (equals `stuck.volume` up to rounding).
+    /// Σ thickness × cell area, m³: `stuck` plus what was received on the front, less what fell
+    /// or ran off (up to rounding).
     pub layer_volume: f64,
     /// Thickness statistics over the face.
     pub thickness: ThicknessStats,
@@ -174,13 +195,21 @@ pub struct TargetMetrics {
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ErosionStats {
-    /// Mean eroded depth over the face, m.
+    /// Mean depth removed over the surface, coating and substrate together, m.
     pub mean_depth: f64,
-    /// Deepest erosion, m.
+    /// Deepest removal, coating and substrate together, m.
     pub max_depth: f64,
-    /// Share of the face cleaned to bare substrate (coating fully removed), 0..1; `null`
+    /// Coating thickness at the start, m.
+    pub coating: f64,
+    /// Mean coating left, m.
+    pub coating_left_mean: f64,
+    /// Share of the surface cleaned to bare substrate (coating fully removed), 0..1; `null`
     /// without a coating.
     pub cleaned_fraction: Option<f64>,
+    /// Mean depth worn off the substrate, m.
+    pub substrate_mean_depth: f64,
+    /// Deepest substrate wear, m.
+    pub substrate_max_depth: f64,
 }
 
 /// Per-obstacle metrics.
@@ -211,9 +240,17 @@ pub struct Metrics {
     pub emitted_mass: f64,
     /// Where they are.
     pub fates: Fates,
-    /// Volume that rebounded from its first impact on a substrate ÷ volume that struck a
-    /// substrate; `null` before anything has struck one.
+    /// Rebound as ACI 506R counts it: of the volume delivered to substrate targets (whose first
+    /// substrate impact was on them), the share not in place on them now — bounced away, came
+    /// to rest loose, fell off or ran off; `null` before anything has struck one.
     pub rebound_ratio: Option<f64>,
+    /// Volume that rebounded from its first impact on a substrate ÷ volume that struck a
+    /// substrate (what bounces at once, whatever becomes of it); `null` before anything has
+    /// struck one.
+    pub bounce_ratio: Option<f64>,
+    /// Of the volume delivered to substrate targets, the share in place only as trapped rebound
+    /// (counted in place by `rebound_ratio`); `null` before anything has struck one.
+    pub trapped_ratio: Option<f64>,
     /// Volume stuck on substrate targets ÷ volume emitted; `null` before anything is emitted.
     pub transfer_efficiency: Option<f64>,
     /// Per target, in scenario order.
@@ -230,6 +267,11 @@ pub struct Metrics {
 
 fn ratio(a: f64, b: f64) -> Option<f64> {
     (b > 0.0).then(|| a / b)
+}
+
+/// Volume in place in `t`'s layer: what adhered, less what left it again, m³.
+fn in_place(t: &Target) -> f64 {
+    (t.stuck.volume - t.loose.volume - t.detached.volume).max(0.0)
 }
 
 impl Gauge {
@@ -278,7 +320,17 @@ impl Simulation {
             steps: self.steps_done(),
             emitted: tally.emitted,
             emitted_mass: tally.emitted.volume * density,
-            rebound_ratio: ratio(tally.substrate_first_rebounds.volume, tally.substrate_first_impacts.volume),
+            rebound_ratio: {
+                let sub = || targets.iter().filter(|t| t.role == Role::Substrate);
+                let delivered: f64 = sub().map(|t| t.delivered.volume).sum();
+                let placed: f64 = sub().map(in_place).sum();
+                ratio(delivered - placed.min(delivered), delivered)
+            },
+            bounce_ratio: ratio(tally.substrate_first_rebounds.volume, tally.substrate_first_impacts.volume),
+            trapped_ratio: {
+                let sub = || targets.iter().filter(|t| t.role == Role::Substrate);
+                ratio(sub().map(|t| t.trapped.volume).sum(), sub().map(|t| t.delivered.volume).sum())
+            },
             transfer_efficiency: ratio(on_substrate, tally.emitted.volume),
             fates,
             targets: targets.iter().map(|t| self.target_metrics(t)).collect(),
@@ -295,6 +347,7 @@ impl Simulation {
                 events: self.failures().to_vec(),
                 released: tally.released,
                 dripped: tally.dripped,
+                ran_off: tally.ran_off,
                 released_fates,
             },
             volume_balance: balance,
@@ -307,11 +360,18 @@ impl Simulation {
         let cells = t.failure_mask.len().max(1) as f64;
         let share = |m: u8| t.failure_mask.iter().filter(|&&x| x == m).count() as f64 / cells;
         let area_cm2 = cells * t.surface.cell_area(0) * 1e4;
-        let erosion = t.erosion.as_ref().map(|e| ErosionStats {
-            mean_depth: e.eroded.iter().sum::<f64>() / cells,
-            max_depth: e.eroded.iter().copied().fold(0.0, f64::max),
-            cleaned_fraction: (e.initial_coating > 0.0)
-                .then(|| e.coating.iter().filter(|&&c| c <= 0.0).count() as f64 / cells),
+        let erosion = t.erosion.as_ref().map(|e| {
+            let eroded = (0..e.coating.len()).map(|c| e.eroded(c));
+            ErosionStats {
+                mean_depth: eroded.clone().sum::<f64>() / cells,
+                max_depth: eroded.fold(0.0, f64::max),
+                coating: e.initial_coating,
+                coating_left_mean: e.coating.iter().sum::<f64>() / cells,
+                cleaned_fraction: (e.initial_coating > 0.0)
+                    .then(|| e.coating.iter().filter(|&&c| c <= 0.0).count() as f64 / cells),
+                substrate_mean_depth: e.substrate.iter().sum::<f64>() / cells,
+                substrate_max_depth: e.substrate.iter().copied().fold(0.0, f64::max),
+            }
         });
         let sag = c.sag_threshold;
         let sag_risk_fraction =
@@ -321,6 +381,13 @@ impl Simulation {
             role: t.role,
             hits: t.hits,
             stuck: t.stuck,
+            loose: t.loose,
+            trapped: t.trapped,
+            delivered: t.delivered,
+            in_place: in_place(t),
+            rebound_ratio: (t.role == Role::Substrate)
+                .then(|| ratio(t.delivered.volume - in_place(t).min(t.delivered.volume), t.delivered.volume))
+                .flatten(),
             stuck_on_back: t.stuck_back,
             layer_volume: t.surface.volume(),
             thickness: ThicknessStats::of(t.surface.thickness(), c.material.coverage_threshold),
@@ -345,7 +412,8 @@ impl Simulation {
             },
             standoff: path.standoff.report(path.samples),
             angle: path.angle.report(path.samples),
-            speed: path.speed.report(path.samples.max(1)),
+            travel_speed: path.travel_speed.report(path.samples.max(1)),
+            nozzle_speed: path.nozzle_speed.report(path.samples.max(1)),
         }
     }
 }
@@ -353,18 +421,18 @@ impl Simulation {
 impl VolumeBalance {
     /// Where `emitted` (m³) is now, from the deposits and the fates.
     fn of(emitted: f64, targets: &[Target], fates: &Fates, released: &Fates) -> VolumeBalance {
-        let on_targets: f64 =
-            targets.iter().map(|t| t.surface.volume() + t.stuck_back.volume + t.received_back).sum();
         let b = VolumeBalance {
             emitted,
-            on_targets,
+            in_maps: targets.iter().map(|t| t.surface.volume()).sum(),
+            on_backs: targets.iter().map(|t| t.stuck_back.volume + t.received_back).sum(),
             on_obstacles: fates.stuck_on_obstacles.volume + released.stuck_on_obstacles.volume,
             left_domain: fates.left_domain.volume + released.left_domain.volume,
             expired: fates.expired.volume + released.expired.volume,
             in_flight: fates.in_flight.volume + released.in_flight.volume,
             residual: 0.0,
         };
-        let residual = b.emitted - (b.on_targets + b.on_obstacles + b.left_domain + b.expired + b.in_flight);
+        let residual =
+            b.emitted - (b.in_maps + b.on_backs + b.on_obstacles + b.left_domain + b.expired + b.in_flight);
         VolumeBalance { residual, ..b }
     }
 }

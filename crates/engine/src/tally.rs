@@ -46,7 +46,7 @@ pub struct Tally {
     pub substrate_first_impacts: Amount,
     /// Of those, the ones that rebounded from it.
     pub substrate_first_rebounds: Amount,
-    /// Particles released by cohesive failures (and drips).
+    /// Particles released by cohesive failures, drips and slumps.
     pub released: Amount,
     /// Released particles that left the domain.
     pub released_left: Amount,
@@ -54,6 +54,8 @@ pub struct Tally {
     pub released_expired: Amount,
     /// Of the released material, what dripped off sagging films.
     pub dripped: Amount,
+    /// Of the released material, what slumped over the edges of targets.
+    pub ran_off: Amount,
 }
 
 /// Running statistics of one path quantity and the samples outside its window.
@@ -94,6 +96,8 @@ pub struct PathTally {
     pub standoff: Gauge,
     /// Angle between the axis and that surface's normal, degrees.
     pub angle: Gauge,
-    /// Travel speed, m/s.
-    pub speed: Gauge,
+    /// Travel speed along the path (without a superposed circle), m/s.
+    pub travel_speed: Gauge,
+    /// The nozzle's total speed, circle included, m/s.
+    pub nozzle_speed: Gauge,
 }

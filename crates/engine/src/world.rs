@@ -29,8 +29,17 @@ pub struct Target {
     pub surface_id: SurfaceId,
     /// Impacts on either side.
     pub hits: u64,
-    /// Particles stuck on the front (all in the deposit).
+    /// Particles stuck on the front (all in the deposit), adhering or loose.
     pub stuck: Amount,
+    /// Of those, the rebounds that came to rest loose instead of adhering: material on the
+    /// surface but not in place in the layer.
+    pub loose: Amount,
+    /// Of those, the rebounds that adhered where they landed again: in the layer, but as
+    /// trapped rebound (a defect on floors, ACI 506R), not as sprayed material.
+    pub trapped: Amount,
+    /// Particles whose first impact on a substrate was on this target's front (the material
+    /// delivered to it).
+    pub delivered: Amount,
     /// Particles stuck on the back, which collects no deposit.
     pub stuck_back: Amount,
     /// Material released by cohesive failures that landed here (front or back).
@@ -41,6 +50,8 @@ pub struct Target {
     pub detached: Amount,
     /// Per cell: 0 sound, 1 over-loaded at the last analysis, 2 failed at some time.
     pub failure_mask: Vec<u8>,
+    /// Whether the last analysis left cells over-loaded but holding (1 in `failure_mask`).
+    pub at_risk: bool,
     /// Erosion maps, when an erosion law applies to this target.
     pub erosion: Option<ErosionMaps>,
 }
@@ -48,12 +59,34 @@ pub struct Target {
 /// Per-cell erosion of a target.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ErosionMaps {
-    /// Depth eroded by impacts, m.
-    pub eroded: Vec<f64>,
     /// Coating left, m.
     pub coating: Vec<f64>,
+    /// Depth worn off the substrate under the coating, m.
+    pub substrate: Vec<f64>,
     /// Coating thickness at the start, m.
     pub initial_coating: f64,
+}
+
+impl ErosionMaps {
+    /// Depth removed at cell `c`, coating and substrate together, m.
+    pub fn eroded(&self, c: usize) -> f64 {
+        (self.initial_coating - self.coating[c]) + self.substrate[c]
+    }
+
+    /// Wears cell `c` (of `area` m²) by one impact that would remove `coat` m³ of coating or
+    /// `sub` m³ of substrate: the coating first, and the substrate with the share of the impact
+    /// the coating left did not absorb.
+    pub fn wear(&mut self, c: usize, area: f64, coat: f64, sub: f64) {
+        let (left, depth) = (self.coating[c], coat / area);
+        if left >= depth {
+            self.coating[c] = left - depth;
+            return;
+        }
+        // The coating absorbs the fraction left / depth of the impact; the rest reaches steel.
+        let spent = if depth > 0.0 { left / depth } else { 0.0 };
+        self.coating[c] = 0.0;
+        self.substrate[c] += (1.0 - spent) * sub / area;
+    }
 }
 
 impl Target {

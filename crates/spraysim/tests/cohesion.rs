@@ -44,25 +44,61 @@ fn uniform_layers_fail_at_the_analytic_thicknesses() {
     assert!(!fails(tilted * 0.999, n) && fails(tilted * 1.001, n));
 }
 
+/// The analysis of a `size` m square ceiling of 2 cm cells carrying `base` m of layer, with a
+/// square patch of `side` cells `patch` m thick at its centre.
+fn ceiling_with_patch(size: f64, side: usize, patch: f64, base: f64) -> spraysim::process::layer::Analysis {
+    let n = (size / 0.02).round() as usize;
+    let mut f = face(-DVec3::Z, size, n);
+    let lo = (n - side) / 2;
+    for c in 0..(n * n) as u32 {
+        let (r, col) = (c as usize / n, c as usize % n);
+        let inside = (lo..lo + side).contains(&r) && (lo..lo + side).contains(&col);
+        let area = f.field.cell_area();
+        f.field.deposit(c, if inside { patch } else { base } * area);
+    }
+    analyse(&f, RHO, G, &S)
+}
+
 #[test]
-fn small_patches_hang_on_and_large_ones_fall() {
-    // A thick square patch on a thin, intact ceiling layer.
-    let patch = |side: usize| {
-        let mut f = face(-DVec3::Z, 2.0, 100);
-        for c in 0..10_000u32 {
-            let (r, col) = (c as usize / 100, c as usize % 100);
-            let t = if r < side && col < side { 0.2 } else { 0.01 };
-            let area = f.field.cell_area();
-            f.field.deposit(c, t * area);
-        }
-        analyse(&f, RHO, G, &S)
-    };
-    let small = patch(3);
+fn small_patches_on_a_sound_layer_hang_on_and_large_ones_fall() {
+    // 6 cm of 80 mm on 20 mm: 1.1 N of excess, 9.6 N across its edge, 6.7 N of spare adhesion
+    // in the first ring around it.
+    let small = ceiling_with_patch(2.0, 3, 0.08, 0.02);
     assert_eq!(small.regions.len(), 1);
-    assert!(!small.regions[0].fails(), "a 6 cm patch is held by its rim");
-    let large = patch(40);
-    assert!(large.regions[0].fails(), "an 80 cm patch falls");
-    assert_eq!(large.regions[0].cells.len(), 1600);
+    assert!(!small.regions[0].fails(), "a 6 cm patch is held by the layer around it: {:?}", small.regions[0]);
+    // 80 cm of 80 mm on 20 mm: 195 N of excess against 128 N across its edge.
+    let large = ceiling_with_patch(2.0, 40, 0.08, 0.02);
+    let r = &large.regions[0];
+    assert!(
+        r.fails() && r.cells.len() == 1600,
+        "an 80 cm patch falls: {} N against {} N",
+        r.driving,
+        r.holding
+    );
+    assert!((r.holding - 2000.0 * 3.2 * 0.02).abs() < 1e-9 * 128.0, "{} N", r.holding);
+}
+
+/// Regression: a region was held by cohesion over its own thickness along its edge, so a thick
+/// lump hung from a thin rim (a 1.5 L static shot hung 0.26 m deep from a ceiling).
+#[test]
+fn a_thick_lump_does_not_hang_from_a_thin_rim() {
+    // 6 cm of 200 mm on 10 mm: 10.8 N of excess; the rim passes on 2000 Pa × 0.24 m × 0.01 m
+    // (it would have held 48 N with the lump's own thickness).
+    let lump = ceiling_with_patch(2.0, 3, 0.2, 0.01);
+    let r = &lump.regions[0];
+    assert!(r.fails(), "{r:?}");
+    assert!((r.holding - 2000.0 * 0.24 * 0.01).abs() < 1e-9, "{r:?}");
+}
+
+#[test]
+fn the_load_must_end_in_spare_adhesion() {
+    // 6 cm of 80 mm on 66 mm, a layer 11 Pa short of pulling off itself. Its 1.1 N of excess
+    // crosses the rim (32 N), but a 20 cm ceiling has only 0.4 N of adhesion to spare.
+    let small_ceiling = ceiling_with_patch(0.2, 3, 0.08, 0.066);
+    assert!(small_ceiling.regions[0].fails(), "{:?}", small_ceiling.regions[0]);
+    // A 2 m ceiling has 40 N.
+    let large_ceiling = ceiling_with_patch(2.0, 3, 0.08, 0.066);
+    assert!(!large_ceiling.regions[0].fails(), "{:?}", large_ceiling.regions[0]);
 }
 
 /// The validation module's sprayed face at 10⁵ particles/s, run to the end.

@@ -47,8 +47,10 @@ fn shotcrete_behind_rebar_is_thinner_than_between_bars() {
     assert!(behind < 0.5 * between, "shadow {behind} vs open {between}");
     assert!(m.obstacles.iter().map(|o| o.hits).sum::<u64>() > 1000);
     let (_, bare) = run("figure4b_shotcrete");
+    // One fast pass builds about 15 mm, little cushion: the capture law loses (1/T) ∫ P dh,
+    // 33 % for a uniform 15 mm layer, more where the pass is thinner.
     let rr = bare.rebound_ratio.expect("impacts");
-    assert!((0.05..=0.30).contains(&rr), "rebound ratio {rr}");
+    assert!((0.2..=0.45).contains(&rr), "rebound ratio {rr}");
     // The mesh costs material on the wall.
     assert!(m.transfer_efficiency < bare.transfer_efficiency);
 }
@@ -73,7 +75,13 @@ fn blasting_leaves_no_deposit_and_a_nonzero_impact_map() {
     let erosion = m.targets[0].erosion.as_ref().expect("blasting erodes");
     assert!(
         erosion.max_depth > 0.0
-            && wall.erosion.iter().flat_map(|e| &e.eroded).filter(|&&e| e > 0.0).count() > 10_000
+            && wall
+                .erosion
+                .iter()
+                .flat_map(|e| (0..e.coating.len()).map(|c| e.eroded(c)))
+                .filter(|&e| e > 0.0)
+                .count()
+                > 10_000
     );
     assert!(erosion.cleaned_fraction.expect("coated") > 0.0);
 }

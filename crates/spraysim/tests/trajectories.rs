@@ -4,7 +4,7 @@ use glam::{DQuat, DVec3};
 use spraysim::Scenario;
 use spraysim::collision::Face;
 use spraysim::deposit::DepositSurface;
-use spraysim::emission::{PassDirection, RasterPlan, raster_waypoints};
+use spraysim::emission::{PassDirection, RasterPlan, raster, raster_waypoints};
 
 fn wall() -> Face {
     Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::new(-1.0, 0.0, 0.0), DVec3::Z, [2.0, 2.0])
@@ -41,15 +41,19 @@ fn circular_motion_circles_the_raster_line() {
         circle_frequency: 2.0,
         ..RasterPlan::default()
     };
-    let w = raster_waypoints(&wall(), &r);
-    for p in &w[..w.len() - 1] {
+    let path = raster(&wall(), &r, 0.0);
+    // One pass: its two ends, the circle superposed analytically.
+    assert_eq!(path.waypoints().len(), 2);
+    // Spraying until the pass ends at 2 s.
+    for k in 0..200 {
+        let t = 2.0 * f64::from(k) / 200.0;
         // Straight line at z = 1 moving along −y: the offset from it is a 5 cm circle.
-        let line_y = 0.5 - 0.5 * p.time;
-        let off = DVec3::new(0.0, p.position.y - line_y, p.position.z - 1.0);
-        assert!((off.length() - 0.05).abs() < 1e-12, "{off}");
+        let (frame, spraying) = path.at(t);
+        let line_y = 0.5 - 0.5 * t;
+        let off = DVec3::new(0.0, frame.position.y - line_y, frame.position.z - 1.0);
+        assert!(spraying && (off.length() - 0.05).abs() < 1e-12, "{off} at {t} s");
+        assert!((path.travel_velocity(t) - DVec3::new(0.0, -0.5, 0.0)).length() < 1e-12);
     }
-    // 36 samples a revolution, 4 revolutions over 2 s.
-    assert_eq!(w.len(), 36 * 4 + 1);
 }
 
 fn raster_scene(extra: &str) -> String {
@@ -168,7 +172,8 @@ fn path_metrics_report_standoff_angle_and_speed_against_the_window() {
     assert!((standoff.min - 1.0).abs() < 1e-12 && (standoff.max - 1.0).abs() < 1e-12);
     assert_eq!(standoff.outside_share, 0.0, "1 m is inside shotcrete's 1–2 m window");
     assert!(p.angle.expect("a wall ahead").max < 1e-6);
-    assert_eq!(p.speed.expect("sampled").max, 0.0);
+    assert_eq!(p.travel_speed.expect("sampled").max, 0.0);
+    assert_eq!(p.nozzle_speed.expect("sampled").max, 0.0);
     assert!((p.spraying_time - 2.0).abs() < 1e-9);
 
     // Tilted 30° off square at 0.6 m: both outside the shotcrete window.
@@ -234,4 +239,41 @@ fn the_nozzle_velocity_carries_over_to_the_particles_when_asked() {
     // The nozzle moves at 5 m/s along +y; a 1 m flight at 20 m/s takes 0.05 s: 0.25 m further.
     let shift = centroid_y(true) - centroid_y(false);
     assert!((shift - 0.25).abs() < 0.011, "shift {shift}");
+}
+
+/// Regression: the reported travel speed included the superposed circle (a 0.6 m/s raster read
+/// 1.33 m/s and "72 % outside the window" in the Figure-4 task).
+#[test]
+fn the_window_judges_the_travel_speed_not_the_circling_tip() {
+    let raster = "[nozzle.raster]\ntarget = \"panel\"\nsize = [0.6, 0.4]\nstandoff = 0.25\nspeed = 0.4\n\
+                  step_over = 0.1\nlead = 0.0\ncircle_radius = 0.05\ncircle_frequency = 2.0";
+    let sc = Scenario::from_toml(&raster_scene(raster), "raster").unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = sc.build().expect("valid");
+    sim.run(|_| {});
+    let p = sim.metrics().path;
+    let travel = p.travel_speed.expect("sampled");
+    // Along the passes at 0.4 m/s (painting's window is 0.2–0.6 m/s), whatever the circle adds.
+    assert!((travel.max - 0.4).abs() < 1e-9, "{travel:?}");
+    assert!(travel.outside_share < 0.05, "{travel:?}");
+    // The tip adds up to 2π r f = 0.63 m/s.
+    let tip = p.nozzle_speed.expect("sampled");
+    let most = 0.4 + std::f64::consts::TAU * 0.05 * 2.0;
+    assert!(tip.max > 0.9 * most && tip.max <= most + 1e-9, "{tip:?}");
+}
+
+#[test]
+fn a_path_that_runs_past_the_duration_is_reported() {
+    let raster = "[nozzle.raster]\ntarget = \"panel\"\nsize = [0.6, 0.4]\nstandoff = 0.25\nspeed = 0.2\n\
+                  step_over = 0.1\nlead = 0.0";
+    let sc = Scenario::from_toml(&raster_scene(raster), "raster").unwrap_or_else(|e| panic!("{e}"));
+    // Five passes of 0.6 m and four steps of 0.1 m at 0.2 m/s: 17 s, against 2 s simulated.
+    let end = sc.path_end();
+    assert!((end - 17.0).abs() < 1e-9, "path ends at {end} s");
+    let warnings = sc.warnings();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("17.000 s") && warnings[0].contains("simulation.duration"), "{warnings:?}");
+    let long = sc.with("simulation.duration", 17.0).expect("valid");
+    assert!(long.warnings().is_empty());
+    let ends = long.spraying_ends().expect("the raster stops");
+    assert!((ends - 17.0).abs() < 1e-9, "spraying ends at {ends} s");
 }

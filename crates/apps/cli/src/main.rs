@@ -247,7 +247,17 @@ fn dispatch(command: Command) -> Result<()> {
         Command::Check { scenario, set, resolved } => {
             let sc = load(Some(&scenario), &set)?;
             if resolved {
-                write_out(&sc.to_toml())?;
+                let duration = sc.simulation().duration;
+                let ends = match sc.spraying_ends() {
+                    Some(t) if t < duration => {
+                        format!("# Spraying ends at {t} s, before the end of the run at {duration} s.\n")
+                    }
+                    Some(t) => {
+                        format!("# Spraying would end at {t} s, after the end of the run at {duration} s.\n")
+                    }
+                    None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
+                };
+                write_out(&format!("{ends}{}", sc.to_toml()))?;
             } else {
                 say!(
                     "{}: valid ({} targets, {} obstacles)",
@@ -315,6 +325,9 @@ fn load(path: Option<&Path>, set: &[String]) -> Result<Scenario> {
     };
     for assignment in set {
         sc = sc.with_assignment(assignment)?;
+    }
+    for w in sc.warnings() {
+        eprintln!("warning: {w}");
     }
     Ok(sc)
 }
@@ -399,11 +412,32 @@ fn print_summary(m: &Metrics, wall: f64) -> Result<()> {
         say!("{name:<22}{:>12}{:>16.6e}{:>8.2}%", a.count, a.volume, pct(a.volume, e.volume));
     }
     let show = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2} %", 100.0 * v));
-    say!("rebound ratio {}   transfer efficiency {}", show(m.rebound_ratio), show(m.transfer_efficiency));
+    say!(
+        "rebound (ACI: not in place) {}   bounced at first impact {}   trapped rebound {}",
+        show(m.rebound_ratio),
+        show(m.bounce_ratio),
+        show(m.trapped_ratio)
+    );
+    say!("transfer efficiency {}", show(m.transfer_efficiency));
     let fell = m.failures.events.iter().fold(0.0, |acc, e| acc + e.volume);
-    say!("cohesive failures {}   fallen volume {fell:.3e} m³", m.failures.events.len());
-    say!("{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}", "target", "hits", "mean [mm]", "max [mm]", "CV", "covered");
-    for t in &m.targets {
+    say!(
+        "cohesive failures {}   fallen volume {fell:.3e} m³   slumped off the edges {:.3e} m³",
+        m.failures.events.len(),
+        m.failures.ran_off.volume
+    );
+    let layered: Vec<_> = m.targets.iter().filter(|t| t.layer_volume > 0.0).collect();
+    if !layered.is_empty() {
+        say!(
+            "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}",
+            "target",
+            "hits",
+            "mean [mm]",
+            "max [mm]",
+            "CV",
+            "covered"
+        );
+    }
+    for t in layered {
         let th = &t.thickness;
         say!(
             "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%",
@@ -413,6 +447,36 @@ fn print_summary(m: &Metrics, wall: f64) -> Result<()> {
             th.max * 1e3,
             th.cv,
             100.0 * th.covered_fraction
+        );
+    }
+    print_erosion(m)
+}
+
+/// The wear of every eroded target: the coat cleaned and left, the substrate worn.
+fn print_erosion(m: &Metrics) -> Result<()> {
+    let eroded: Vec<_> = m.targets.iter().filter_map(|t| t.erosion.as_ref().map(|e| (t, e))).collect();
+    if eroded.is_empty() {
+        return Ok(());
+    }
+    say!(
+        "{:<12}{:>10}{:>12}{:>11}{:>14}{:>14}",
+        "target",
+        "hits/cm²",
+        "cleaned",
+        "coat [µm]",
+        "wear [µm]",
+        "max wear [µm]"
+    );
+    for (t, e) in eroded {
+        let cleaned = e.cleaned_fraction.map_or("n/a".to_string(), |c| format!("{:.1}%", 100.0 * c));
+        say!(
+            "{:<12}{:>10.2}{:>12}{:>11.1}{:>14.3}{:>14.3}",
+            t.name,
+            t.hits_per_cm2,
+            cleaned,
+            e.coating_left_mean * 1e6,
+            e.substrate_mean_depth * 1e6,
+            e.substrate_max_depth * 1e6
         );
     }
     Ok(())

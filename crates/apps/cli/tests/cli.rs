@@ -43,7 +43,6 @@ fn run_writes_every_output() {
         [
             "metrics.json",
             "scenario.resolved.toml",
-            "wall_failure.png",
             "wall_hits.npy",
             "wall_hits.png",
             "wall_thickness.npy",
@@ -121,7 +120,7 @@ fn the_default_scene_runs_without_a_scenario() {
     let o = spraysim(&["run", "-o", "d"], tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains("rebound ratio") && out.contains("wall") && out.contains("floor"), "{out}");
+    assert!(out.contains("rebound (ACI") && out.contains("wall") && out.contains("floor"), "{out}");
     assert!(tmp.path().join("d/wall_thickness.png").exists());
     assert!(tmp.path().join("d/floor_thickness.npy").exists());
 }

@@ -43,6 +43,8 @@ pub struct HeightField {
     /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
     /// layer's slope is measured (finer, the slope would be the deposit's speckle).
     reach: (usize, usize),
+    /// One bit per cell: its thickness changed since the last `take_changed`.
+    changed: Vec<u64>,
 }
 
 impl HeightField {
@@ -74,6 +76,7 @@ impl HeightField {
             block_cols: cols.div_ceil(BLOCK),
             reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
+            changed: vec![0; (cols * rows).div_ceil(64)],
         }
     }
 
@@ -98,7 +101,42 @@ impl HeightField {
         let t = &mut self.thickness[cell as usize];
         let take = (volume / area).min(*t);
         *t -= take;
+        self.mark(cell as usize);
         take * area
+    }
+
+    /// Adds `dt` (m, negative to remove) to `cell`'s thickness, never below 0, keeping the
+    /// bounds of the thickness up to date.
+    pub fn add(&mut self, cell: u32, dt: f64) {
+        let c = cell as usize;
+        let t = (self.thickness[c] + dt).max(0.0);
+        self.thickness[c] = t;
+        self.raise_bounds(c, t);
+        self.mark(c);
+    }
+
+    fn raise_bounds(&mut self, c: usize, t: f64) {
+        self.max_thickness = self.max_thickness.max(t);
+        let b = &mut self.block_max[((c / self.cols) / BLOCK) * self.block_cols + (c % self.cols) / BLOCK];
+        *b = b.max(t);
+    }
+
+    #[inline]
+    fn mark(&mut self, c: usize) {
+        self.changed[c / 64] |= 1 << (c % 64);
+    }
+
+    /// The cells whose thickness changed since the last call, ascending.
+    pub fn take_changed(&mut self) -> Vec<u32> {
+        let mut out = Vec::new();
+        for (w, word) in self.changed.iter_mut().enumerate() {
+            let mut bits = std::mem::take(word);
+            while bits != 0 {
+                out.push((w * 64) as u32 + bits.trailing_zeros());
+                bits &= bits - 1;
+            }
+        }
+        out
     }
 
     /// In-face coordinates `(along right, along up)` of a cell's centre, m from the face's centre.
@@ -149,14 +187,39 @@ impl HeightField {
             |&&(i, j): &&(isize, isize)| (0..cols).contains(&(col + i)) && (0..rows).contains(&(row + j));
         let n = self.splat.iter().filter(in_grid).count();
         let added = volume / (n as f64 * self.cell_area());
-        for &(i, j) in self.splat.iter().filter(in_grid) {
-            let (r, c) = ((row + j) as usize, (col + i) as usize);
-            let t = &mut self.thickness[r * self.cols + c];
-            *t += added;
-            self.max_thickness = self.max_thickness.max(*t);
-            let b = &mut self.block_max[(r / BLOCK) * self.block_cols + c / BLOCK];
-            *b = b.max(*t);
+        for k in 0..self.splat.len() {
+            let (i, j) = self.splat[k];
+            if !(0..cols).contains(&(col + i)) || !(0..rows).contains(&(row + j)) {
+                continue;
+            }
+            let c = (row + j) as usize * self.cols + (col + i) as usize;
+            self.thickness[c] += added;
+            self.raise_bounds(c, self.thickness[c]);
+            self.mark(c);
         }
+    }
+
+    /// Mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s (all
+    /// cells have the same area), m.
+    pub fn mean_around(&self, cell: u32, radius: f64) -> f64 {
+        let (dx, dy) = self.cell_size();
+        let (rx, ry) = ((radius / dx).floor() as isize, (radius / dy).floor() as isize);
+        if rx == 0 && ry == 0 {
+            return self.thickness[cell as usize];
+        }
+        let (cols, rows) = (self.cols as isize, self.rows as isize);
+        let (row, col) = (cell as isize / cols, cell as isize % cols);
+        let (mut sum, mut n) = (0.0, 0.0);
+        for j in (row - ry).max(0)..=(row + ry).min(rows - 1) {
+            for i in (col - rx).max(0)..=(col + rx).min(cols - 1) {
+                let (x, y) = ((i - col) as f64 * dx, (j - row) as f64 * dy);
+                if x * x + y * y <= radius * radius {
+                    sum += self.thickness[(j * cols + i) as usize];
+                    n += 1.0;
+                }
+            }
+        }
+        sum / n
     }
 
     /// An upper bound of every cell's thickness, m.

@@ -89,10 +89,15 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     /// The point `height` (m) in front of the bare surface at the centre of `cell`.
     fn point_above(&self, cell: u32, height: f64) -> DVec3;
 
-    /// Thickness per cell, m.
+    /// Thickness per cell, m. Its storage is allocated with the surface and written in place,
+    /// so it keeps its address for the surface's life (bindings view it without a copy).
     fn thickness(&self) -> &[f64];
 
-    /// Impacts per cell (stuck or rebounded).
+    /// Mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s, weighted
+    /// by area (`cell`'s own thickness when `radius` is below a cell), m.
+    fn mean_thickness(&self, cell: u32, radius: f64) -> f64;
+
+    /// Impacts per cell (stuck or rebounded); stored in place like [`DepositSurface::thickness`].
     fn hits(&self) -> &[u32];
 
     /// Area of `cell` on the bare surface, m².
@@ -121,6 +126,22 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     /// Calls `visit(neighbour, shared edge length in m)` for each cell that touches `cell`:
     /// first the ones sharing an edge, then the ones sharing only a corner (length 0).
     fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64));
+
+    /// Calls `visit(neighbour, centre)` for each cell around `cell` that material can flow to,
+    /// with the centre (m, on the bare surface) of that cell, or, past an edge that does not
+    /// hold the layer, of where it would be (`None`: material flowing there leaves the surface).
+    fn stencil(&self, cell: u32, visit: &mut dyn FnMut(Option<u32>, DVec3));
+
+    /// The smallest distance between the centres of `cell` and of a cell in its stencil, m. The
+    /// surface is flat over a stencil: the drop from `cell` to a neighbour per metre between
+    /// them is at most the sine of the surface's tilt there.
+    fn spacing(&self, cell: u32) -> f64;
+
+    /// Adds `dt` (m, negative to remove) to `cell`'s thickness, never below 0.
+    fn add_thickness(&mut self, cell: u32, dt: f64);
+
+    /// The cells whose thickness changed since the last call, ascending.
+    fn take_changed(&mut self) -> Vec<u32>;
 
     /// How the cells are laid out.
     fn layout(&self) -> Layout;
@@ -163,6 +184,7 @@ macro_rules! surfaces {
             }
             #[inline]
             fn thickness(&self) -> &[f64] { each!(self, s => s.thickness()) }
+            fn mean_thickness(&self, cell: u32, radius: f64) -> f64 { each!(self, s => s.mean_thickness(cell, radius)) }
             fn hits(&self) -> &[u32] { each!(self, s => s.hits()) }
             #[inline]
             fn cell_area(&self, cell: u32) -> f64 { each!(self, s => s.cell_area(cell)) }
@@ -176,6 +198,12 @@ macro_rules! surfaces {
             fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64)) {
                 each!(self, s => s.neighbours(cell, visit))
             }
+            fn stencil(&self, cell: u32, visit: &mut dyn FnMut(Option<u32>, DVec3)) {
+                each!(self, s => s.stencil(cell, visit))
+            }
+            fn spacing(&self, cell: u32) -> f64 { each!(self, s => s.spacing(cell)) }
+            fn add_thickness(&mut self, cell: u32, dt: f64) { each!(self, s => s.add_thickness(cell, dt)) }
+            fn take_changed(&mut self) -> Vec<u32> { each!(self, s => s.take_changed()) }
             fn layout(&self) -> Layout { each!(self, s => s.layout()) }
             fn mesh(&self, lift: bool, max_cells: usize) -> SurfaceMesh { each!(self, s => s.mesh(lift, max_cells)) }
         }

@@ -13,6 +13,8 @@ pub struct RectangleSurface {
     pub face: Face,
     /// Thickness and impacts per cell.
     pub field: HeightField,
+    /// The edges hold the layer (formwork, a floor under a wall): nothing flows over them.
+    pub held_edges: bool,
 }
 
 impl RectangleSurface {
@@ -20,7 +22,12 @@ impl RectangleSurface {
     /// over the cells within `splat_radius` (m) of the struck cell's centre.
     pub fn new(face: Face, cols: usize, rows: usize, splat_radius: f64) -> Self {
         let field = HeightField::new(2.0 * face.half_width, 2.0 * face.half_height, cols, rows, splat_radius);
-        RectangleSurface { face, field }
+        RectangleSurface { face, field, held_edges: false }
+    }
+
+    /// The same surface with its edges held (`true`) or free.
+    pub fn with_held_edges(self, held: bool) -> Self {
+        RectangleSurface { held_edges: held, ..self }
     }
 }
 
@@ -62,6 +69,10 @@ impl DepositSurface for RectangleSurface {
     #[inline]
     fn thickness(&self) -> &[f64] {
         self.field.thickness()
+    }
+
+    fn mean_thickness(&self, cell: u32, radius: f64) -> f64 {
+        self.field.mean_around(cell, radius)
     }
 
     fn hits(&self) -> &[u32] {
@@ -127,6 +138,35 @@ impl DepositSurface for RectangleSurface {
                 visit(n as u32, 0.0);
             }
         }
+    }
+
+    fn stencil(&self, cell: u32, visit: &mut dyn FnMut(Option<u32>, DVec3)) {
+        let (cols, rows) = (self.field.cols() as isize, self.field.rows() as isize);
+        let (dx, dy) = self.field.cell_size();
+        let (r, c) = (cell as isize / cols, cell as isize % cols);
+        let (u, v) = self.field.cell_center(cell);
+        for (dr, dc) in [(0, -1), (0, 1), (-1, 0), (1, 0), (-1, -1), (-1, 1), (1, -1), (1, 1)] {
+            let (rr, cc) = (r + dr, c + dc);
+            let inside = (0..rows).contains(&rr) && (0..cols).contains(&cc);
+            if !inside && self.held_edges {
+                continue;
+            }
+            let centre = self.face.point(u + dc as f64 * dx, v + dr as f64 * dy, 0.0);
+            visit(inside.then(|| (rr * cols + cc) as u32), centre);
+        }
+    }
+
+    fn spacing(&self, _cell: u32) -> f64 {
+        let (dx, dy) = self.field.cell_size();
+        dx.min(dy)
+    }
+
+    fn add_thickness(&mut self, cell: u32, dt: f64) {
+        self.field.add(cell, dt);
+    }
+
+    fn take_changed(&mut self) -> Vec<u32> {
+        self.field.take_changed()
     }
 
     fn layout(&self) -> Layout {

@@ -9,5 +9,5 @@ pub use emitter::{
     Aperture, Direction, Emitter, inverse_normal_cdf, normal_cdf, normal_sf, truncated_normal_mass,
     truncated_normal_unit,
 };
-pub use nozzle::{NozzleFrame, NozzlePath, Waypoint, slerp};
-pub use paths::{PassDirection, RasterPlan, circling_waypoints, raster_waypoints};
+pub use nozzle::{Circle, NozzleFrame, NozzlePath, Waypoint, slerp};
+pub use paths::{PassDirection, RasterPlan, circling, raster, raster_waypoints};

@@ -44,11 +44,45 @@ pub struct Waypoint {
     pub spray: bool,
 }
 
-/// The nozzle's motion: waypoints and the roll of the aperture about the spray axis.
+/// A circular motion superposed on a path: the nozzleman's circles, or a robot's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Circle {
+    /// Radius, m.
+    pub radius: f64,
+    /// Revolutions per second, Hz.
+    pub frequency: f64,
+    /// Time at which the offset is `radius · first`, s.
+    pub start: f64,
+    /// Unit direction of the offset at `start`.
+    pub first: DVec3,
+    /// Unit direction of the offset a quarter turn later.
+    pub second: DVec3,
+}
+
+impl Circle {
+    /// Offset from the path at time `t` (s), m.
+    #[inline]
+    pub fn offset(&self, t: f64) -> DVec3 {
+        let phase = std::f64::consts::TAU * self.frequency * (t - self.start);
+        (self.first * phase.cos() + self.second * phase.sin()) * self.radius
+    }
+
+    /// Velocity of the offset at time `t` (s), m/s.
+    #[inline]
+    pub fn velocity(&self, t: f64) -> DVec3 {
+        let w = std::f64::consts::TAU * self.frequency;
+        let phase = w * (t - self.start);
+        (self.second * phase.cos() - self.first * phase.sin()) * (self.radius * w)
+    }
+}
+
+/// The nozzle's motion: waypoints, an optional circle superposed on them, and the roll of the
+/// aperture about the spray axis.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NozzlePath {
     waypoints: Vec<Waypoint>,
     roll: f64,
+    circle: Option<Circle>,
 }
 
 impl NozzlePath {
@@ -58,6 +92,7 @@ impl NozzlePath {
         NozzlePath {
             waypoints: vec![Waypoint { time: 0.0, position, axis: axis.normalize(), spray: true }],
             roll,
+            circle: None,
         }
     }
 
@@ -65,12 +100,23 @@ impl NozzlePath {
     /// aperture rolled by `roll` (rad) about the axis.
     pub fn through(waypoints: Vec<Waypoint>, roll: f64) -> Self {
         let waypoints = waypoints.into_iter().map(|w| Waypoint { axis: w.axis.normalize(), ..w }).collect();
-        NozzlePath { waypoints, roll }
+        NozzlePath { waypoints, roll, circle: None }
+    }
+
+    /// This path with `circle` superposed on its positions.
+    pub fn with_circle(self, circle: Circle) -> Self {
+        NozzlePath { circle: Some(circle), ..self }
+    }
+
+    /// The superposed circle, if any.
+    pub fn circle(&self) -> Option<&Circle> {
+        self.circle.as_ref()
     }
 
     /// Pose at time `t` (s) and whether the nozzle sprays then. Position is interpolated
-    /// linearly, the axis spherically; before the first and after the last waypoint the nozzle
-    /// holds that waypoint's pose.
+    /// linearly (plus the circle, if any), the axis spherically; before the first waypoint the
+    /// nozzle holds that pose without spraying, after the last it holds the last pose and its
+    /// spray state.
     pub fn at(&self, t: f64) -> (NozzleFrame, bool) {
         let w = &self.waypoints;
         if w.is_empty() {
@@ -78,7 +124,8 @@ impl NozzlePath {
         }
         let i = w.partition_point(|p| p.time <= t);
         let (pos, axis, spray) = if i == 0 {
-            (w[0].position, w[0].axis, w[0].spray)
+            // Before the path starts, the nozzle waits at its first pose without spraying.
+            (w[0].position, w[0].axis, false)
         } else if i == w.len() {
             let last = w[w.len() - 1];
             (last.position, last.axis, last.spray)
@@ -87,12 +134,18 @@ impl NozzlePath {
             let f = (t - a.time) / (b.time - a.time);
             (a.position.lerp(b.position, f), slerp(a.axis, b.axis, f), a.spray)
         };
+        let pos = pos + self.circle.map_or(DVec3::ZERO, |c| c.offset(t));
         (NozzleFrame::new(pos, axis, self.roll), spray)
     }
 
-    /// The nozzle's velocity at time `t` (s), m/s: constant along each leg between waypoints,
-    /// zero before the first and after the last.
+    /// The nozzle's velocity at time `t` (s), m/s: the travel along the path plus the circle.
     pub fn velocity(&self, t: f64) -> DVec3 {
+        self.travel_velocity(t) + self.circle.map_or(DVec3::ZERO, |c| c.velocity(t))
+    }
+
+    /// The velocity of travel along the path at time `t` (s), m/s, without the circle:
+    /// constant along each leg between waypoints, zero before the first and after the last.
+    pub fn travel_velocity(&self, t: f64) -> DVec3 {
         let w = &self.waypoints;
         let i = w.partition_point(|p| p.time <= t);
         if i == 0 || i == w.len() {
@@ -158,8 +211,10 @@ mod tests {
         assert!(f.axis.abs_diff_eq(diag, 1e-12), "{}", f.axis);
         let (f, _) = path.at(1.5);
         assert!((f.axis.angle_between(DVec3::X) - std::f64::consts::FRAC_PI_8).abs() < 1e-12);
+        // Before its first waypoint the nozzle waits there, not yet spraying.
         let (before, spray_before) = path.at(0.0);
-        assert!(before.position == DVec3::ZERO && spray_before);
+        assert!(before.position == DVec3::ZERO && !spray_before);
+        assert!(path.at(1.0).1, "sprays from its first waypoint");
         let (after, spray_after) = path.at(10.0);
         assert!(after.axis.abs_diff_eq(DVec3::Y, 1e-12) && !spray_after);
     }
@@ -178,14 +233,22 @@ mod tests {
 
     #[test]
     fn a_circling_nozzle_stays_on_its_circle_across_the_axis() {
-        use crate::emission::circling_waypoints;
-        let axis = DVec3::new(1.0, 0.0, 0.0);
-        let w = circling_waypoints(DVec3::new(-1.0, 0.0, 1.0), axis, 0.1, 2.0, 1.0);
-        assert_eq!(w.len(), 74, "36 samples a revolution over 2 revolutions, and both ends");
-        for p in &w {
-            let off = p.position - DVec3::new(-1.0, 0.0, 1.0);
-            assert!((off.length() - 0.1).abs() < 1e-12 && off.dot(axis).abs() < 1e-12);
+        use crate::emission::circling;
+        let (centre, axis) = (DVec3::new(-1.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 0.0));
+        let path = circling(centre, axis, 0.1, 2.0, 0.0);
+        for k in 0..50 {
+            let t = k as f64 * 0.013;
+            let (frame, spraying) = path.at(t);
+            let off = frame.position - centre;
+            assert!(spraying && (off.length() - 0.1).abs() < 1e-12 && off.dot(axis).abs() < 1e-12);
+            // Speed 2π r f, along the circle.
+            let v = path.velocity(t);
+            assert!((v.length() - std::f64::consts::TAU * 0.2).abs() < 1e-12 && v.dot(off).abs() < 1e-12);
+            assert_eq!(path.travel_velocity(t), DVec3::ZERO);
         }
-        assert!(w[36].position.abs_diff_eq(w[0].position, 1e-12), "one revolution in 0.5 s");
+        assert!(
+            path.at(0.5).0.position.abs_diff_eq(path.at(0.0).0.position, 1e-12),
+            "one revolution in 0.5 s"
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! Nozzle paths generated from a few parameters: a nozzle circling a point, and a raster
 //! (zig-zag) over a rectangle of a face, the robot tasks of the paper's Figure 4.
 
-use super::{NozzleFrame, Waypoint};
+use super::{Circle, NozzleFrame, NozzlePath, Waypoint};
 use crate::collision::Face;
 use glam::DVec3;
 
@@ -65,39 +65,53 @@ impl Default for RasterPlan {
     }
 }
 
-/// Waypoints of a static nozzle circling `position` (radius m, frequency Hz) in the plane
-/// perpendicular to `axis` until `until` (s), sampled 36 times a revolution.
-pub fn circling_waypoints(
-    position: DVec3,
-    axis: DVec3,
-    radius: f64,
-    frequency: f64,
-    until: f64,
-) -> Vec<Waypoint> {
-    let axis = axis.normalize();
+/// A static nozzle at `position` spraying along `axis`, circling in the plane perpendicular to
+/// the axis with `radius` (m) at `frequency` (Hz), its aperture rolled by `roll` (rad).
+pub fn circling(position: DVec3, axis: DVec3, radius: f64, frequency: f64, roll: f64) -> NozzlePath {
     let frame = NozzleFrame::new(position, axis, 0.0);
-    let step = 1.0 / (36.0 * frequency);
-    let n = (until / step).ceil() as usize + 1;
-    (0..=n)
-        .map(|k| {
-            let t = k as f64 * step;
-            let phase = std::f64::consts::TAU * frequency * t;
-            let offset = (frame.width_axis * phase.cos() + frame.height_axis * phase.sin()) * radius;
-            Waypoint { time: t, position: position + offset, axis, spray: true }
-        })
-        .collect()
+    let circle = Circle { radius, frequency, start: 0.0, first: frame.width_axis, second: frame.height_axis };
+    NozzlePath::fixed(position, axis, roll).with_circle(circle)
 }
 
-/// Waypoints of a raster over `face`: passes from the bottom (horizontal) or the left
-/// (vertical), alternating direction, the nozzle at the standoff along the face's normal,
-/// spraying against it; a circular motion, if any, is sampled 36 times per revolution.
+/// A raster over `face` (see [`raster_waypoints`]) with its circle, if any, superposed; the
+/// aperture rolled by `roll` (rad).
+pub fn raster(face: &Face, r: &RasterPlan, roll: f64) -> NozzlePath {
+    let (along, across) = raster_axes(face, r.passes);
+    let path = NozzlePath::through(raster_waypoints(face, r), roll);
+    if r.circle_radius > 0.0 && r.circle_frequency > 0.0 {
+        let circle = Circle {
+            radius: r.circle_radius,
+            frequency: r.circle_frequency,
+            start: r.start_time,
+            first: along,
+            second: across,
+        };
+        path.with_circle(circle)
+    } else {
+        path
+    }
+}
+
+/// The pass direction and the step-over direction of a raster over `face`.
+fn raster_axes(face: &Face, passes: PassDirection) -> (DVec3, DVec3) {
+    match passes {
+        PassDirection::Horizontal => (face.right, face.up),
+        PassDirection::Vertical => (face.up, face.right),
+    }
+}
+
+/// The corners of a raster over `face` without its circle: passes from the bottom (horizontal)
+/// or the left (vertical), alternating direction, the nozzle at the standoff along the face's
+/// normal, spraying against it at the travel speed; each waypoint's spray flag holds for the leg
+/// that starts there.
 pub fn raster_waypoints(face: &Face, r: &RasterPlan) -> Vec<Waypoint> {
     let [w, h] = r.size;
     let centre = face.center + face.right * r.offset[0] + face.up * r.offset[1] + face.normal * r.standoff;
     // `along`: the pass direction; `across`: the step-over direction.
-    let (along, across, length, span) = match r.passes {
-        PassDirection::Horizontal => (face.right, face.up, w, h),
-        PassDirection::Vertical => (face.up, face.right, h, w),
+    let (along, across) = raster_axes(face, r.passes);
+    let (length, span) = match r.passes {
+        PassDirection::Horizontal => (w, h),
+        PassDirection::Vertical => (h, w),
     };
     let passes = (span / r.step_over + 1e-9).floor() as usize + 1;
     let half = length / 2.0 + r.lead;
@@ -116,31 +130,14 @@ pub fn raster_waypoints(face: &Face, r: &RasterPlan) -> Vec<Waypoint> {
         times.push(last + pair[0].0.distance(pair[1].0) / r.speed);
     }
     let axis = -face.normal;
-    let circle = |t: f64| {
-        let phase = std::f64::consts::TAU * r.circle_frequency * (t - r.start_time);
-        (along * phase.cos() + across * phase.sin()) * r.circle_radius
-    };
-    let mut out = Vec::new();
-    let sample = if r.circle_radius > 0.0 && r.circle_frequency > 0.0 {
-        1.0 / (36.0 * r.circle_frequency)
-    } else {
-        f64::INFINITY
-    };
-    for (i, pair) in corners.windows(2).enumerate() {
-        let (t0, t1) = (times[i], times[i + 1]);
-        let n = ((t1 - t0) / sample).ceil().max(1.0) as usize;
-        for j in 0..n {
-            let f = j as f64 / n as f64;
-            let t = t0 + f * (t1 - t0);
-            out.push(Waypoint {
-                time: t,
-                position: pair[0].0.lerp(pair[1].0, f) + circle(t),
-                axis,
-                spray: pair[0].1,
-            });
-        }
+    let mut out: Vec<Waypoint> = corners
+        .iter()
+        .zip(&times)
+        .map(|(&(position, spray), &time)| Waypoint { time, position, axis, spray })
+        .collect();
+    // The path ends, spraying no more, at the last corner.
+    if let Some(last) = out.last_mut() {
+        last.spray = false;
     }
-    let (end, t_end) = (corners[corners.len() - 1].0, times[times.len() - 1]);
-    out.push(Waypoint { time: t_end, position: end + circle(t_end), axis, spray: false });
     out
 }

@@ -3,5 +3,5 @@
 pub mod rng;
 pub mod swarm;
 
-pub use rng::StreamKey;
+pub use rng::{MATERIAL_EVENT, StreamKey};
 pub use swarm::{Swarm, Volumes, flags};

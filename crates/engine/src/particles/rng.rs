@@ -11,6 +11,11 @@ use rand_chacha::ChaCha8Rng;
 /// 32-bit words reserved per event: far more than any event draws.
 const WORDS_PER_EVENT: u128 = 1 << 16;
 
+/// The event number of the draw that fixes what a particle is made of (see
+/// [`crate::process::ImpactSite::material`]): never an impact's (those count from 1 and stop at
+/// 2¹⁶).
+pub const MATERIAL_EVENT: u32 = u32::MAX;
+
 /// Key material for all streams of one run.
 #[derive(Clone, Copy, Debug)]
 pub struct StreamKey([u8; 32]);
@@ -21,7 +26,8 @@ impl StreamKey {
         StreamKey(ChaCha8Rng::seed_from_u64(seed).get_seed())
     }
 
-    /// The generator for `event` (0 = emission, n = n-th impact) of particle `particle`.
+    /// The generator for `event` (0 = emission, n = n-th impact, [`MATERIAL_EVENT`]) of
+    /// particle `particle`.
     #[inline]
     pub fn stream(&self, particle: u64, event: u32) -> ChaCha8Rng {
         let mut rng = ChaCha8Rng::from_seed(self.0);

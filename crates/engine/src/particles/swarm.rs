@@ -11,6 +11,8 @@ pub mod flags {
     pub const HIT_SUBSTRATE: u8 = 2;
     /// It is material released by a cohesive failure, not a particle from the nozzle.
     pub const RELEASED: u8 = 4;
+    /// It has rebounded at least once.
+    pub const BOUNCED: u8 = 8;
 }
 
 /// Material volume of each particle, without an array over all of them: every particle from

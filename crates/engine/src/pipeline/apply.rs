@@ -23,13 +23,14 @@ pub(super) fn run(state: &mut State, outcomes: Vec<ChunkOutcome>, events: &mut d
                     t.hits += 1;
                     if !back {
                         t.surface.add_hit(rec.cell);
-                        if rec.eroded > 0.0
-                            && let Some(e) = &mut t.erosion
-                        {
-                            let depth = f64::from(rec.eroded) / t.surface.cell_area(rec.cell);
-                            let c = rec.cell as usize;
-                            e.eroded[c] += depth;
-                            e.coating[c] = (e.coating[c] - depth).max(0.0);
+                        if let Some(e) = &mut t.erosion {
+                            let area = t.surface.cell_area(rec.cell);
+                            e.wear(
+                                rec.cell as usize,
+                                area,
+                                f64::from(rec.eroded_coat),
+                                f64::from(rec.eroded_sub),
+                            );
                         }
                     }
                     if stuck {
@@ -44,7 +45,14 @@ pub(super) fn run(state: &mut State, outcomes: Vec<ChunkOutcome>, events: &mut d
                                 }
                             }
                             (false, true) => t.stuck_back.add(volume),
-                            (false, false) => t.stuck.add(volume),
+                            (false, false) => {
+                                t.stuck.add(volume);
+                                if rec.flags & record::LOOSE != 0 {
+                                    t.loose.add(volume);
+                                } else if rec.flags & record::REBOUND != 0 {
+                                    t.trapped.add(volume);
+                                }
+                            }
                         }
                     }
                 }
@@ -57,6 +65,9 @@ pub(super) fn run(state: &mut State, outcomes: Vec<ChunkOutcome>, events: &mut d
                 }
             }
             if rec.flags & record::FIRST_SUBSTRATE != 0 {
+                if let SurfaceKind::Target(i) = state.scene.surface(rec.surface).kind {
+                    state.targets[i].delivered.add(volume);
+                }
                 state.tally.substrate_first_impacts.add(volume);
                 if !stuck {
                     state.tally.substrate_first_rebounds.add(volume);

@@ -28,7 +28,7 @@ pub(super) fn run(
         return;
     }
     let nozzle_velocity = state.nozzle.velocity(time);
-    record_path(config, state, &frame, nozzle_velocity);
+    record_path(config, state, &frame, state.nozzle.travel_velocity(time), nozzle_velocity);
     let carried = if config.add_nozzle_velocity { nozzle_velocity } else { DVec3::ZERO };
     let emitter = &config.emitter;
     let n = emitter.spawn_count(config.dt, &mut state.spawn_carry);
@@ -59,8 +59,15 @@ pub(super) fn run(
 }
 
 /// Path-quality sample of a spraying step: standoff and angle to the nearest substrate surface
-/// along the spray axis, and travel speed, against the recommended window.
-fn record_path(config: &SimulationConfig, state: &mut State, frame: &NozzleFrame, velocity: DVec3) {
+/// along the spray axis, and travel speed, against the recommended window; the nozzle's total
+/// speed (`velocity`, circle included) beside it.
+fn record_path(
+    config: &SimulationConfig,
+    state: &mut State,
+    frame: &NozzleFrame,
+    travel: DVec3,
+    velocity: DVec3,
+) {
     let w = &config.window;
     let reach = config.domain.max.distance(config.domain.min);
     let far = frame.position + frame.axis * reach;
@@ -78,6 +85,7 @@ fn record_path(config: &SimulationConfig, state: &mut State, frame: &NozzleFrame
         p.standoff.add(standoff, (w.standoff[0]..=w.standoff[1]).contains(&standoff));
         p.angle.add(angle, angle <= w.max_angle);
     }
-    let speed = velocity.length();
-    p.speed.add(speed, (w.speed[0]..=w.speed[1]).contains(&speed));
+    let speed = travel.length();
+    p.travel_speed.add(speed, (w.speed[0]..=w.speed[1]).contains(&speed));
+    p.nozzle_speed.add(velocity.length(), true);
 }

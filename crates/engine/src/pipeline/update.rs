@@ -9,11 +9,12 @@ use crate::config::SimulationConfig;
 use crate::deposit::{DepositSurface, LayerContact};
 use crate::events::{ImpactEvent, sampled};
 use crate::motion::{Integrator, Motion};
-use crate::particles::{StreamKey, Volumes, flags};
-use crate::process::{ImpactModel, Outcome};
+use crate::particles::{MATERIAL_EVENT, StreamKey, Volumes, flags};
+use crate::process::{ImpactModel, ImpactSite, Outcome};
 use crate::tally::Amount;
 use crate::world::{Role, Target};
 use glam::DVec3;
+use rand::Rng;
 use rayon::prelude::*;
 
 /// Advances every particle in flight by one step, in parallel over fixed chunks; returns what
@@ -82,8 +83,12 @@ pub(crate) mod record {
     pub const FIRST_SUBSTRATE: u8 = 2;
     /// The impact was on the back of a target.
     pub const BACK: u8 = 4;
-    /// The particle is released material (see [`crate::swarm::flags::RELEASED`]).
+    /// The particle is released material (see [`crate::particles::flags::RELEASED`]).
     pub const RELEASED: u8 = 8;
+    /// The particle came to rest loose (a slow rebound), not adhering: with `STUCK`.
+    pub const LOOSE: u8 = 16;
+    /// The particle had rebounded before this impact.
+    pub const REBOUND: u8 = 32;
 }
 
 /// One impact, to be applied to shared state in particle order.
@@ -92,8 +97,10 @@ pub(crate) struct ImpactRecord {
     pub surface: SurfaceId,
     pub cell: u32,
     pub volume: f32,
-    /// Volume the impact erodes from the target, m³.
-    pub eroded: f32,
+    /// Volume of coating the impact would remove, m³.
+    pub eroded_coat: f32,
+    /// Volume of substrate the impact would remove, m³.
+    pub eroded_sub: f32,
     pub flags: u8,
 }
 
@@ -341,7 +348,14 @@ impl UpdateContext<'_> {
         hit: &Hit,
         v_in: DVec3,
     ) -> ImpactRecord {
-        let mut rec = ImpactRecord { surface: s, cell: u32::MAX, volume: p.volume, eroded: 0.0, flags: 0 };
+        let mut rec = ImpactRecord {
+            surface: s,
+            cell: u32::MAX,
+            volume: p.volume,
+            eroded_coat: 0.0,
+            eroded_sub: 0.0,
+            flags: 0,
+        };
         if p.flags & flags::RELEASED != 0 {
             rec.flags |= record::RELEASED;
         }
@@ -353,7 +367,8 @@ impl UpdateContext<'_> {
                     // γ: the impact angle from the surface.
                     let gamma = (-v_in.dot(hit.normal) / speed.max(f64::MIN_POSITIVE)).clamp(0.0, 1.0).asin();
                     let mass = f64::from(p.volume) * self.density;
-                    rec.eroded = erosion.law.removed_volume(mass, speed, gamma) as f32;
+                    rec.eroded_coat = erosion.coating_law.removed_volume(mass, speed, gamma) as f32;
+                    rec.eroded_sub = erosion.substrate_law.removed_volume(mass, speed, gamma) as f32;
                 }
                 if target.role == Role::Substrate && p.flags & flags::HIT_SUBSTRATE == 0 {
                     p.flags |= flags::HIT_SUBSTRATE;
@@ -364,6 +379,40 @@ impl UpdateContext<'_> {
             (SurfaceKind::Obstacle(_), _) => {}
         }
         rec
+    }
+
+    /// Volume an impact erodes, m³: from the coating where the cell had some at the start of
+    /// the step, else from the substrate (for event handlers; the apply stage wears the maps
+    /// exactly, impact by impact).
+    fn eroded(&self, rec: &ImpactRecord) -> f32 {
+        let coated = match self.scene.surface(rec.surface).kind {
+            SurfaceKind::Target(t) => self.targets[t]
+                .erosion
+                .as_ref()
+                .is_some_and(|e| e.coating.get(rec.cell as usize).is_some_and(|&c| c > 0.0)),
+            SurfaceKind::Obstacle(_) => false,
+        };
+        if coated { rec.eroded_coat } else { rec.eroded_sub }
+    }
+
+    /// The impact of `p` at `hit` with velocity `v_in` as the impact laws see it: on a target's
+    /// front, over the layer averaged over the model's cushion radius, at an angle of incidence
+    /// taken on the bare surface.
+    fn site(
+        &self,
+        p: &Particle,
+        model: &ImpactModel,
+        front: Option<(&Target, usize, u32)>,
+        hit: &Hit,
+        v_in: DVec3,
+    ) -> ImpactSite {
+        let layer = front.map(|(target, _, cell)| target.surface.mean_thickness(cell, model.cushion_radius));
+        let material = self.key.stream(u64::from(p.id), MATERIAL_EVENT).random::<f64>();
+        let site = ImpactModel::site(v_in, hit.normal, layer, material, p.flags & flags::BOUNCED != 0);
+        match front {
+            Some((target, _, cell)) => site.incidence_on(target.surface.normal(cell)),
+            None => site,
+        }
     }
 
     /// Moves one particle through one step, resolving up to `max_impacts` impacts. Returns true
@@ -382,19 +431,25 @@ impl UpdateContext<'_> {
             p.impacts = p.impacts.saturating_add(1);
             let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
             let surface = self.scene.surface(s);
-            // An impact on the front of a target: the target, its index and the cell struck.
+            // An impact on the front of a target: the target, its index and the cell struck. A
+            // contact with the layer is on the front by construction, whatever its normal (a
+            // particle entering a taller column through its side meets a normal in the face's
+            // plane); a hit on the bare surface is on the front if it comes from that side.
             let front = match surface.kind {
-                SurfaceKind::Target(t) if self.targets[t].surface.receives(hit.normal) => {
+                SurfaceKind::Target(t) if cell.is_some() || self.targets[t].surface.receives(hit.normal) => {
                     let target = &self.targets[t];
                     let cell = cell.unwrap_or_else(|| target.surface.cell_at(hit.point));
                     Some((target, t, cell))
                 }
                 _ => None,
             };
-            // The layer under the impact (for the cushion effect); none off the targets' fronts.
-            let layer = front.map(|(target, _, cell)| target.surface.thickness()[cell as usize]);
-            let outcome = self.models[surface.impact].resolve(v_in, hit.normal, layer, &mut rng);
+            let model = &self.models[surface.impact];
+            let bounced = p.flags & flags::BOUNCED != 0;
+            let outcome = model.resolve(&self.site(p, model, front, &hit, v_in), &mut rng);
             let mut rec = self.record(p, s, front, &hit, v_in);
+            if bounced {
+                rec.flags |= record::REBOUND;
+            }
             if self.capture.wants(p.id, p.impacts) {
                 out.events.push(ImpactEvent {
                     time: self.time + (self.dt - remaining) + hit.t * remaining,
@@ -402,15 +457,18 @@ impl UpdateContext<'_> {
                     normal: hit.normal,
                     velocity: v_in,
                     surface: s,
-                    stuck: outcome == Outcome::Stick,
-                    eroded: rec.eroded,
+                    stuck: matches!(outcome, Outcome::Stick | Outcome::Rest),
+                    eroded: self.eroded(&rec),
                     particle: p.id,
                     impact: p.impacts,
                 });
             }
             match outcome {
-                Outcome::Stick => {
+                Outcome::Stick | Outcome::Rest => {
                     rec.flags |= record::STUCK;
+                    if outcome == Outcome::Rest {
+                        rec.flags |= record::LOOSE;
+                    }
                     out.impacts.push(rec);
                     p.pos = hit.point;
                     p.vel = DVec3::ZERO;
@@ -418,6 +476,7 @@ impl UpdateContext<'_> {
                     return true;
                 }
                 Outcome::Rebound(v_out) => {
+                    p.flags |= flags::BOUNCED;
                     out.impacts.push(rec);
                     x = hit.point + hit.normal * SURFACE_OFFSET;
                     v = v_out;

@@ -12,13 +12,34 @@ use std::sync::Arc;
 pub struct ImpactSite {
     /// Incoming velocity, m/s.
     pub velocity: DVec3,
-    /// Unit normal of the surface struck (the layer's, on a deposit), facing the particle.
+    /// Unit normal of the surface struck (the layer's, on a deposit), facing the particle: the
+    /// rebound reflects about it.
     pub normal: DVec3,
-    /// Angle of incidence θ between the incoming path and the normal, rad, in `[0, π/2]`.
+    /// Angle of incidence θ between the incoming path and the surface's normal, rad, in
+    /// `[0, π/2]`: on a deposit, the bare surface's normal (see [`ImpactSite::incidence_on`]).
     pub theta: f64,
-    /// Thickness of the deposit under the impact, m; `None` off the receiving side of a
-    /// deposit surface (obstacles, backs of targets).
+    /// Thickness of the deposit under the impact, m (averaged over the model's
+    /// `cushion_radius`); `None` off the receiving side of a deposit surface (obstacles, backs
+    /// of targets).
     pub layer: Option<f64>,
+    /// What the particle is made of, as a uniform draw in `[0, 1)` from its own random stream:
+    /// the same at every impact of the particle (a law maps it to mortar or a grain size).
+    pub material: f64,
+    /// Whether the particle has rebounded before.
+    pub bounced: bool,
+}
+
+impl ImpactSite {
+    /// The same impact with θ measured against unit `normal` instead: on a deposit, the bare
+    /// surface's. The field's rebound-versus-angle curves are measured against the surface
+    /// sprayed and already include the fresh layer's own roughness, which a particle model
+    /// resolves only as the noise of its particles (so that a slope read from the layer would
+    /// make rebound depend on the particle size).
+    pub fn incidence_on(self, normal: DVec3) -> ImpactSite {
+        let speed = self.velocity.length();
+        let cos = if speed > 0.0 { (self.velocity.dot(normal) / speed).abs().min(1.0) } else { 1.0 };
+        ImpactSite { theta: cos.acos(), ..self }
+    }
 }
 
 /// Impact parameters of one surface.
@@ -36,49 +57,50 @@ pub struct ImpactModel {
     pub rest_speed: f64,
     /// Steepest surface (angle of its normal from +z, rad) on which a slow rebound can rest.
     pub rest_max_slope: f64,
-    /// Cushion effect: rebound probability multiplier on a bare substrate (1: no effect).
-    pub cushion_factor: f64,
-    /// Layer thickness at which the cushion multiplier has decayed to 1, m (0: no effect).
-    pub cushion_thickness: f64,
+    /// Radius over which the layer under an impact is averaged, m (0: the struck cell): a
+    /// cushion is a layer, not one particle's splat.
+    pub cushion_radius: f64,
 }
 
 /// Outcome of one impact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Outcome {
-    /// The particle stays where it hit.
+    /// The particle adheres where it hit: it becomes part of the layer.
     Stick,
+    /// The particle rebounded too slowly to leave and lies where it hit, loose, on a surface
+    /// that can hold it: material on the surface, but not in place in the layer.
+    Rest,
     /// The particle leaves with this velocity (m/s).
     Rebound(DVec3),
 }
 
 impl ImpactModel {
-    /// `P(rebound) = α · p_r · m`, clamped to `[0, 1]`; `m` is the cushion multiplier for the
-    /// layer under the impact (1 where there is no layer to speak of, as on obstacles).
+    /// `P(rebound) = α · p_r`, clamped to `[0, 1]`.
     pub fn rebound_probability(&self, site: &ImpactSite) -> f64 {
-        let m = match site.layer {
-            Some(t) if self.cushion_thickness > 0.0 => {
-                1.0 + (self.cushion_factor - 1.0) * (1.0 - t / self.cushion_thickness).max(0.0)
-            }
-            _ => 1.0,
-        };
-        (self.alpha * self.rebound.probability(site) * m).clamp(0.0, 1.0)
+        (self.alpha * self.rebound.probability(site)).clamp(0.0, 1.0)
     }
 
-    /// Decides the outcome of an impact with velocity `v` (m/s) on a surface with unit `normal`
-    /// facing the incoming particle, over a layer of `layer` (m; `None` off deposits). Draws
-    /// from `rng` in a fixed order (decision, then scatter), so the outcome depends only on the
-    /// particle's own stream.
-    pub fn resolve<R: Rng>(&self, v: DVec3, normal: DVec3, layer: Option<f64>, rng: &mut R) -> Outcome {
+    /// The impact site of a particle with velocity `v` (m/s) on a surface with unit `normal`
+    /// facing it, over a layer of `layer` (m; `None` off deposits), made of `material`, having
+    /// `bounced` before or not.
+    pub fn site(v: DVec3, normal: DVec3, layer: Option<f64>, material: f64, bounced: bool) -> ImpactSite {
         let speed = v.length();
         let cos_theta = if speed > 0.0 { (-v.dot(normal) / speed).clamp(0.0, 1.0) } else { 1.0 };
-        let site = ImpactSite { velocity: v, normal, theta: cos_theta.acos(), layer };
+        ImpactSite { velocity: v, normal, theta: cos_theta.acos(), layer, material, bounced }
+    }
+
+    /// Decides the outcome of an impact at `site`. Draws from `rng` in a fixed order (decision,
+    /// then scatter), so the outcome depends only on the particle's own stream.
+    pub fn resolve<R: Rng>(&self, site: &ImpactSite, rng: &mut R) -> Outcome {
+        let (v, normal) = (site.velocity, site.normal);
+        let speed = v.length();
         let u: f64 = rng.random();
-        if u >= self.rebound_probability(&site) {
+        if u >= self.rebound_probability(site) {
             return Outcome::Stick;
         }
         let out_speed = speed * self.restitution;
         if out_speed < self.rest_speed && normal.z >= self.rest_max_slope.cos() {
-            return Outcome::Stick;
+            return Outcome::Rest;
         }
         // Specular reflection; `min(0)` keeps a grazing particle from being turned inwards.
         let reflected = v - 2.0 * v.dot(normal).min(0.0) * normal;

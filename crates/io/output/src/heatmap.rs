@@ -105,13 +105,20 @@ fn tick_label(v: f64, max: f64) -> String {
 
 /// Renders `grid` as a heatmap from 0 to its maximum, titled `title`.
 pub fn render(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap) -> RgbImage {
+    let max = grid.values.iter().copied().fold(0.0_f64, f64::max);
+    render_range(grid, title, scale, map, max)
+}
+
+/// Renders `grid` as a heatmap from 0 to `max` (in the grid's unit; the largest value when it
+/// is not above 0), titled `title`.
+pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, max: f64) -> RgbImage {
     let (cols, rows) = (grid.cols, grid.rows);
     // Pixels per cell (enlarge) or cells per pixel (shrink), keeping the aspect ratio.
     let side = cols.max(rows);
     let down = side.div_ceil(MAX_SIDE).max(1);
     let up = (MIN_SIDE / side).max(1);
     let (w, h) = (cols.div_ceil(down) * up, rows.div_ceil(down) * up);
-    let max = grid.values.iter().copied().fold(0.0_f64, f64::max) * scale.factor;
+    let max = max * scale.factor;
     let top = if max > 0.0 { max } else { 1.0 };
 
     let s: i64 = if h >= 400 { 2 } else { 1 };

@@ -133,9 +133,14 @@ pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>
             let n = name("hits", "npy");
             files.push((n.clone(), npy_bytes(rows, cols, t.surface.hits(), Path::new(&n))?));
             if let Some(e) = &t.erosion {
-                let eroded: Vec<f32> = e.eroded.iter().map(|&x| x as f32).collect();
+                let worn: Vec<f32> = e.substrate.iter().map(|&x| x as f32).collect();
                 let n = name("erosion", "npy");
-                files.push((n.clone(), npy_bytes(rows, cols, &eroded, Path::new(&n))?));
+                files.push((n.clone(), npy_bytes(rows, cols, &worn, Path::new(&n))?));
+                if e.initial_coating > 0.0 {
+                    let left: Vec<f32> = e.coating.iter().map(|&x| x as f32).collect();
+                    let n = name("coating", "npy");
+                    files.push((n.clone(), npy_bytes(rows, cols, &left, Path::new(&n))?));
+                }
             }
         }
         if sc.output().images {
@@ -148,7 +153,8 @@ pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>
     Ok(files)
 }
 
-/// The heatmaps of one target, by what they show.
+/// The heatmaps of one target, by what they show; a map with nothing to show (no deposit, no
+/// wear, nothing at risk) is not drawn.
 fn heatmaps(
     t: &spraysim_engine::world::Target,
     sc: &Scenario,
@@ -160,7 +166,10 @@ fn heatmaps(
     let max = thickness.iter().copied().fold(0.0, f64::max);
     let scale = heatmap::Scale::thickness(max);
     let grid = heatmap::Grid { values: thickness, cols, rows, marks: None };
-    let mut out = vec![("thickness", heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, map))];
+    let mut out = Vec::new();
+    if max > 0.0 {
+        out.push(("thickness", heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, map)));
+    }
     // Impacts per cm², the map a blasting jet leaves.
     let per_cm2 = 1.0 / (t.surface.cell_area(0) * 1e4);
     let hits: Vec<f64> = t.surface.hits().iter().map(|&h| f64::from(h) * per_cm2).collect();
@@ -168,22 +177,52 @@ fn heatmaps(
     let scale_hits = heatmap::Scale::count("impacts [1/cm²]");
     out.push(("hits", heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, map)));
     if let Some(e) = &t.erosion {
-        let deepest = e.eroded.iter().copied().fold(0.0, f64::max);
-        let mut scale = heatmap::Scale::thickness(deepest);
-        scale.label = scale.label.replace("thickness", "eroded");
-        let grid = heatmap::Grid { values: &e.eroded, cols, rows, marks: None };
-        out.push(("erosion", heatmap::render(&grid, &format!("{}: erosion", t.name), &scale, map)));
+        out.extend(erosion_maps(t, e, rows, cols, map));
     }
     let process = sc.process();
-    if process.sag_threshold > 0.0 {
+    if max > 0.0 && process.sag_threshold > 0.0 {
         let risk = t.sag_risk(process.sag_threshold);
-        let grid = heatmap::Grid { marks: Some(&risk), ..grid };
-        out.push(("sag", heatmap::render(&grid, &format!("{}: sag risk (orange)", t.name), &scale, map)));
+        if risk.iter().any(|&r| r > 0) {
+            let grid = heatmap::Grid { marks: Some(&risk), ..grid };
+            out.push(("sag", heatmap::render(&grid, &format!("{}: sag risk (orange)", t.name), &scale, map)));
+        }
     }
-    if process.cohesion.interval > 0.0 {
+    if max > 0.0 && process.cohesion.interval > 0.0 && t.failure_mask.iter().any(|&m| m > 0) {
         let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
         let title = format!("{}: failed (red), at risk (orange)", t.name);
         out.push(("failure", heatmap::render(&grid, &title, &scale, map)));
+    }
+    out
+}
+
+/// The substrate's wear and the coating left, where there is something to show.
+fn erosion_maps(
+    t: &spraysim_engine::world::Target,
+    e: &spraysim_engine::world::ErosionMaps,
+    rows: usize,
+    cols: usize,
+    map: spraysim_scenario::Colormap,
+) -> Vec<(&'static str, image::RgbImage)> {
+    let mut out = Vec::new();
+    let deepest = e.substrate.iter().copied().fold(0.0, f64::max);
+    if deepest > 0.0 {
+        let mut scale = heatmap::Scale::thickness(deepest);
+        scale.label = scale.label.replace("thickness", "substrate worn");
+        let grid = heatmap::Grid { values: &e.substrate, cols, rows, marks: None };
+        out.push(("erosion", heatmap::render(&grid, &format!("{}: substrate wear", t.name), &scale, map)));
+    }
+    if e.initial_coating > 0.0 {
+        let mut scale = heatmap::Scale::thickness(e.initial_coating);
+        scale.label = scale.label.replace("thickness", "coating left");
+        let grid = heatmap::Grid { values: &e.coating, cols, rows, marks: None };
+        let img = heatmap::render_range(
+            &grid,
+            &format!("{}: coating left", t.name),
+            &scale,
+            map,
+            e.initial_coating,
+        );
+        out.push(("coating", img));
     }
     out
 }

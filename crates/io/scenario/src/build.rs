@@ -8,11 +8,11 @@ use spraysim_engine::config::{
     ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
 };
 use spraysim_engine::deposit::{RectangleSurface, Surface};
-use spraysim_engine::emission::{self, Emitter, NozzlePath, Waypoint, circling_waypoints, raster_waypoints};
+use spraysim_engine::emission::{self, Emitter, NozzlePath, Waypoint, circling, raster};
 use spraysim_engine::motion::Motion;
 use spraysim_engine::process::erosion::{Finnie, Oka};
-use spraysim_engine::process::layer::{CohesionStage, DripStage, Strength};
-use spraysim_engine::process::rebound::{AlwaysRebound, NeverRebound, PolynomialRebound};
+use spraysim_engine::process::layer::{CohesionStage, DripStage, SlumpStage, Strength};
+use spraysim_engine::process::rebound::{AlwaysRebound, CushionCapture, NeverRebound, PolynomialRebound};
 use spraysim_engine::process::{ErosionLaw, ImpactModel};
 use std::sync::Arc;
 
@@ -30,12 +30,58 @@ impl Scenario {
     pub fn build(&self) -> Result<spraysim_engine::Simulation, spraysim_engine::SetupError> {
         spraysim_engine::Simulation::new(self.config())
     }
+
+    /// When the nozzle's path ends, s: the time of its last waypoint (0 for a static or
+    /// circling nozzle, which never stops).
+    pub fn path_end(&self) -> f64 {
+        match &self.nozzle().motion {
+            NozzleMotion::Static { .. } | NozzleMotion::Circling { .. } => 0.0,
+            _ => nozzle_path(self).waypoints().last().map_or(0.0, |w| w.time),
+        }
+    }
+
+    /// When the nozzle stops spraying for good, s (`None`: it sprays until the run ends).
+    pub fn spraying_ends(&self) -> Option<f64> {
+        let end = nozzle_path(self).spray_end();
+        end.is_finite().then_some(end)
+    }
+
+    /// What the scenario does that a user may not intend, one sentence each: a path cut off
+    /// by the simulated duration, say.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let (end, duration) = (self.path_end(), self.simulation().duration);
+        if end > duration {
+            out.push(format!(
+                "the nozzle's path runs until {end:.3} s, past `simulation.duration` = {duration} s: the last \
+                 {:.3} s of it are not simulated (set simulation.duration to at least {end:.3})",
+                end - duration
+            ));
+        }
+        let gravity = DVec3::from_array(self.simulation().gravity).normalize_or_zero();
+        for t in self.targets() {
+            let TargetShape::Rectangle { normal, edges, .. } = t.shape;
+            // Facing sideways or down, what slumps down the face piles at its held foot without
+            // limit (the heightfield measures thickness across the face, not a heap on a floor).
+            if edges == Edges::Held
+                && self.process().slump.interval > 0.0
+                && -gravity.dot(v3(normal).normalize()) < 0.5f64.sqrt()
+            {
+                out.push(format!(
+                    "target `{}` holds its edges but is steeper than 45°: what slumps down it piles up at its foot \
+                     without limit (leave its edges free over a floor target that catches what runs off)",
+                    t.name
+                ));
+            }
+        }
+        out
+    }
 }
 
 /// The engine's configuration of `sc`.
 fn config(sc: &Scenario) -> SimulationConfig {
     let (s, p) = (sc.simulation(), sc.process());
-    let erosion = erosion_law(&p.erosion);
+    let erosion = erosion_laws(&p.erosion);
     let targets: Vec<TargetConfig> = sc
         .targets()
         .iter()
@@ -44,7 +90,11 @@ fn config(sc: &Scenario) -> SimulationConfig {
             role: t.role,
             surface: surface(&t.shape),
             impact: impact_model(t.impact.as_ref().unwrap_or(&p.impact)),
-            erosion: erosion.clone().map(|law| ErosionConfig { law, coating: t.coating }),
+            erosion: erosion.clone().map(|(coating_law, substrate_law)| ErosionConfig {
+                coating: t.coating,
+                coating_law,
+                substrate_law,
+            }),
         })
         .collect();
     let obstacles = sc
@@ -57,6 +107,12 @@ fn config(sc: &Scenario) -> SimulationConfig {
         })
         .collect();
     let mut layer_stages = Vec::new();
+    // Slump first: cohesion judges the layer as it stands after flowing.
+    let sl = &p.slump;
+    if sl.interval > 0.0 {
+        let stage = Arc::new(SlumpStage { yield_stress: sl.yield_stress, max_sweeps: sl.max_sweeps });
+        layer_stages.push(ScheduledStage { interval: sl.interval, stage });
+    }
     let c = &p.cohesion;
     if c.interval > 0.0 {
         let strength =
@@ -81,7 +137,7 @@ fn config(sc: &Scenario) -> SimulationConfig {
             coverage_threshold: p.coverage_threshold,
         },
         emitter: emitter(sc.emitter(), p.flow_rate),
-        nozzle: nozzle_path(sc, &targets),
+        nozzle: nozzle_path(sc),
         add_nozzle_velocity: sc.nozzle().add_velocity,
         targets,
         obstacles,
@@ -101,6 +157,19 @@ pub fn impact_model(p: &ImpactParams) -> ImpactModel {
             ReboundParams::Polynomial { rebound_polynomial } => {
                 Arc::new(PolynomialRebound { coefficients: rebound_polynomial.clone() })
             }
+            ReboundParams::Cushion {
+                rebound_polynomial,
+                aggregate_fraction,
+                grading,
+                capture_ratio,
+                trap_ratio,
+            } => Arc::new(CushionCapture {
+                aggregate_fraction: *aggregate_fraction,
+                grading: grading.iter().map(|&[d, share]| (d, share)).collect(),
+                capture_ratio: *capture_ratio,
+                trap_ratio: *trap_ratio,
+                ricochet: PolynomialRebound { coefficients: rebound_polynomial.clone() },
+            }),
             ReboundParams::Always => Arc::new(AlwaysRebound),
             ReboundParams::Never => Arc::new(NeverRebound),
         },
@@ -108,45 +177,42 @@ pub fn impact_model(p: &ImpactParams) -> ImpactModel {
         scatter: p.scatter_angle.to_radians(),
         rest_speed: p.rest_speed,
         rest_max_slope: p.rest_max_slope.to_radians(),
-        cushion_factor: p.cushion_factor,
-        cushion_thickness: p.cushion_thickness,
+        cushion_radius: p.cushion_radius,
     }
 }
 
-fn erosion_law(e: &ErosionParams) -> Option<Arc<dyn ErosionLaw>> {
+/// The erosion laws of the coating and of the substrate, if erosion is on.
+type Laws = (Arc<dyn ErosionLaw>, Arc<dyn ErosionLaw>);
+
+fn erosion_laws(e: &ErosionParams) -> Option<Laws> {
     match *e {
         ErosionParams::None => None,
-        ErosionParams::Finnie { finnie_k } => Some(Arc::new(Finnie { k: finnie_k })),
-        ErosionParams::Oka {
-            oka_e90,
-            oka_n1,
-            oka_n2,
-            oka_hv,
-            oka_k2,
-            oka_k3,
-            oka_v_ref,
-            oka_d_ref,
-            grain_diameter,
-        } => Some(Arc::new(Oka {
-            e90: oka_e90,
-            n1: oka_n1,
-            n2: oka_n2,
-            hv: oka_hv,
-            k2: oka_k2,
-            k3: oka_k3,
-            v_ref: oka_v_ref,
-            d_ref: oka_d_ref,
-            grain_diameter,
-        })),
+        ErosionParams::Finnie { coating, substrate } => {
+            Some((Arc::new(Finnie { k: coating.finnie_k }), Arc::new(Finnie { k: substrate.finnie_k })))
+        }
+        ErosionParams::Oka { grain_diameter, oka_v_ref, oka_d_ref, oka_k3, coating, substrate } => {
+            let law = |l: OkaLayer| -> Arc<dyn ErosionLaw> {
+                Arc::new(Oka::for_hardness(
+                    l.hardness,
+                    l.oka_e90,
+                    oka_v_ref,
+                    oka_d_ref,
+                    oka_k3,
+                    grain_diameter,
+                ))
+            };
+            Some((law(coating), law(substrate)))
+        }
     }
 }
 
 fn surface(shape: &TargetShape) -> Surface {
     match *shape {
-        TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius } => {
+        TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges } => {
             let face = Face::new(v3(center), v3(normal), v3(up), size);
             let [cols, rows] = resolution.map(|r| r as usize);
-            Surface::Rectangle(RectangleSurface::new(face, cols, rows, splat_radius))
+            let rect = RectangleSurface::new(face, cols, rows, splat_radius);
+            Surface::Rectangle(rect.with_held_edges(edges == Edges::Held))
         }
     }
 }
@@ -219,21 +285,23 @@ fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
     }
 }
 
-fn nozzle_path(sc: &Scenario, targets: &[TargetConfig]) -> NozzlePath {
+/// The face of the rectangle target named `name`.
+fn target_face(sc: &Scenario, name: &str) -> Option<Face> {
+    sc.targets().iter().find(|t| t.name == name).map(|t| match t.shape {
+        TargetShape::Rectangle { center, normal, up, size, .. } => {
+            Face::new(v3(center), v3(normal), v3(up), size)
+        }
+    })
+}
+
+fn nozzle_path(sc: &Scenario) -> NozzlePath {
     let n = sc.nozzle();
     let roll = n.roll.to_radians();
     match &n.motion {
         NozzleMotion::Static { position, axis } => NozzlePath::fixed(v3(*position), v3(*axis), roll),
-        NozzleMotion::Circling { position, axis, circle_radius, circle_frequency } => NozzlePath::through(
-            circling_waypoints(
-                v3(*position),
-                v3(*axis),
-                *circle_radius,
-                *circle_frequency,
-                sc.simulation().duration,
-            ),
-            roll,
-        ),
+        NozzleMotion::Circling { position, axis, circle_radius, circle_frequency } => {
+            circling(v3(*position), v3(*axis), *circle_radius, *circle_frequency, roll)
+        }
         NozzleMotion::Waypoints { waypoints } => NozzlePath::through(
             waypoints
                 .iter()
@@ -248,12 +316,8 @@ fn nozzle_path(sc: &Scenario, targets: &[TargetConfig]) -> NozzlePath {
         ),
         NozzleMotion::Raster { raster: r } => {
             // Reading the raster checked that its target exists and is a rectangle.
-            let face = targets
-                .iter()
-                .find(|t| t.name == r.target)
-                .and_then(|t| t.surface.as_rectangle())
-                .map(|r| r.face);
-            NozzlePath::through(face.map(|f| raster_waypoints(&f, &r.plan)).unwrap_or_default(), roll)
+            let face = target_face(sc, &r.target);
+            face.map_or_else(|| NozzlePath::through(Vec::new(), roll), |f| raster(&f, &r.plan, roll))
         }
     }
 }

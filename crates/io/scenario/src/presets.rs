@@ -5,7 +5,7 @@
 
 use crate::params::{
     ApertureKind, CohesionParams, DirectionKind, EmitterDefaults, ErosionDefaults, ErosionKind,
-    ImpactDefaults, Preset, ProcessDefaults, ReboundKind, WindowParams,
+    ImpactDefaults, LayerDefaults, Preset, ProcessDefaults, ReboundKind, SlumpParams, WindowParams,
 };
 
 /// Default p_r(θ) coefficients in x = θ/90°: p_r = 0.10 + 2.4 x³. Passes through the public
@@ -19,22 +19,69 @@ pub const SHOTCRETE_REBOUND_POLYNOMIAL: [f64; 4] = [0.10, 0.0, 0.0, 2.4];
 const COHESION_OFF: CohesionParams =
     CohesionParams { interval: 0.0, tensile_strength: 1500.0, shear_strength: 5000.0, cohesion: 2000.0 };
 
-/// Erosion constants: Oka's exponents for sand on steel (physics-notes.md); Finnie's k and Oka's
-/// E90 from blasting productivity, about 10⁻⁵ m³ of coating removed per kg of grit at the best
-/// angle (10–20 m²/h of a 0.2 mm coat at 5–10 kg/min): to be calibrated for the coating at hand.
+/// Slump switched off; the shotcrete yield stress kept so that switching it on by `interval`
+/// alone gives sensible numbers.
+const SLUMP_OFF: SlumpParams = SlumpParams { interval: 0.0, yield_stress: 2500.0, max_sweeps: 200 };
+
+/// Erosion constants (physics-notes.md; Oka et al., Wear 259, 2005): a paint or epoxy coat on
+/// mild steel. Steel: Hv ≈ 1.4 GPa (S235/S275, 120–170 HV), E90 = 65 Hv^−0.12 mm³/kg = 6.2e-8
+/// m³/kg for silica at 104 m/s and 326 µm, Finnie's k ≈ 3e-11 m³/J. A coat wears about 70 times
+/// faster: blasting productivity (9–21 m²/h of a 150–250 µm coat with 220–520 kg/h of grit)
+/// removes about 1e-5 m³ of coat per kg of grit at the best angle, so E90 ≈ 5e-6 m³/kg (the
+/// angle function of Hv = 0.2 GPa peaks at 2.1) and k ≈ 2e-9 m³/J at 125 m/s; Oka's hardness
+/// fit, made on metals, is used for the coat's angle function only.
 const EROSION: ErosionDefaults = ErosionDefaults {
     model: ErosionKind::None,
-    finnie_k: 1.5e-9,
-    oka_e90: 1e-5,
-    oka_n1: 0.71,
-    oka_n2: 2.4,
-    oka_hv: 1.6,
-    oka_k2: 2.35,
-    oka_k3: 0.19,
+    grain_diameter: 0.5e-3,
     oka_v_ref: 104.0,
     oka_d_ref: 326e-6,
-    grain_diameter: 0.5e-3,
+    oka_k3: 0.19,
+    coating: LayerDefaults { hardness: 0.2, oka_e90: 5e-6, finnie_k: 2e-9 },
+    substrate: LayerDefaults { hardness: 1.4, oka_e90: 6.2e-8, finnie_k: 3e-11 },
 };
+
+/// ACI 506R gradation No. 2 (ASTM C1436) for wet-mix shotcrete, mid-band: share of the
+/// aggregate volume finer than each sieve, with the 0.075 mm wash sieve as its lower end (what
+/// passes it belongs to the mortar), in m and shares.
+pub const GRADING_NO2: [[f64; 2]; 9] = [
+    [0.075e-3, 0.0],
+    [0.15e-3, 0.06],
+    [0.3e-3, 0.14],
+    [0.6e-3, 0.275],
+    [1.18e-3, 0.45],
+    [2.36e-3, 0.60],
+    [4.75e-3, 0.775],
+    [9.5e-3, 0.95],
+    [12.5e-3, 1.0],
+];
+
+/// The impact keys of a wet-mix shotcrete mix, which every preset carries for a model switched
+/// to the cushion law (each preset overrides the rest).
+fn mix() -> ImpactDefaults {
+    ImpactDefaults {
+        alpha: 1.0,
+        rebound_model: ReboundKind::Cushion,
+        rebound_polynomial: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec(),
+        // The aggregate's share of the angle curve's rise: 2.4 (θ/90°)³ over normal incidence.
+        ricochet_polynomial: vec![0.0, 0.0, 0.0, 2.4],
+        // Sand 40–60 % and coarse aggregate 10–20 % of the volume (Morgan & Jolin 2022).
+        aggregate_fraction: 0.65,
+        grading: GRADING_NO2.to_vec(),
+        // A grain escapes a layer thinner than κ d: Poncelet penetration with bearing factor 9
+        // gives κ = 0.5–2.2 (Allen et al. 1957; Skempton 1951); 2.5 puts a wall inside ACI's
+        // 5–10 % (the one calibrated constant; see docs/validation.md).
+        capture_ratio: 4.0,
+        // A rebound lands at about 1 m/s, where the same penetration law sinks a grain into a
+        // cushion deeper than about 0.1 d: half-embedded is conservative.
+        trap_ratio: 0.5,
+        restitution: 0.04,
+        scatter_angle: 5.0,
+        rest_speed: 0.5,
+        rest_max_slope: 90.0,
+        // 1.5–2 largest grains: a cushion is a layer, not one particle's splat.
+        cushion_radius: 0.02,
+    }
+}
 
 impl Preset {
     /// The `[process]` defaults of this preset.
@@ -48,26 +95,35 @@ impl Preset {
                 max_lifetime: 5.0,        // s; long enough to fall to the floor from a few metres
                 coverage_threshold: 1e-3, // 1 mm of shotcrete counts as covered
                 impact: ImpactDefaults {
-                    alpha: 1.0, // Table 1: the angle curve governs rebound
-                    rebound_model: ReboundKind::Polynomial,
-                    rebound_polynomial: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec(),
+                    alpha: 1.0, // Table 1: the angle-based law governs rebound
+                    // Aggregate rebounds off a hard surface, is caught by a plastic cushion.
+                    rebound_model: ReboundKind::Cushion,
                     restitution: 0.04,    // Table 1: 0.03–0.05
                     scatter_angle: 5.0,   // Table 1: "small angular noise"
                     rest_speed: 0.5,      // m/s; slower rebounds stay put
                     rest_max_slope: 90.0, // wet mix holds on any face that is not an overhang
-                    cushion_factor: 1.0,  // the cushion effect (ACI 506) is off by default
-                    cushion_thickness: 0.0,
+                    ..mix()
                 },
-                // Fresh wet-mix shotcrete builds about 50–100 mm overhead and 200–300 mm on a
-                // wall in one pass: ρ g t at those thicknesses sets the adhesive strengths.
+                // Wet-mix is placed at 40–80 mm slump (ACI 506R); the slump–yield relation of Hu
+                // and de Larrard, τ₀ = ρ (300 − s)/270 (Ferraris & de Larrard 1998; Roussel
+                // 2006), gives 1.9–2.3 kPa, and spraying stiffens it further; wet-mix build-ups
+                // of 68–218 mm (Yun et al. 2016) mean ρ g t = 1.5–4.9 kPa. 2500 Pa holds
+                // τ_y/(ρ g) = 111 mm on a wall.
+                slump: SlumpParams { interval: 0.1, ..SLUMP_OFF },
+                // Fresh wet-mix shotcrete builds about 50–100 mm overhead in one pass: ρ g t
+                // there sets the pull-off strength; the bond in shear outlasts the yield stress,
+                // so on a wall the layer slumps before it slides off.
                 cohesion: CohesionParams {
-                    interval: 0.5,
+                    interval: 0.1,            // as often as slump: a lump falls once it outgrows its hold
                     tensile_strength: 1500.0, // Pa: fails overhead beyond ρ g t ≈ 66 mm
-                    shear_strength: 5000.0,   // Pa: slides off a wall beyond ≈ 222 mm
-                    cohesion: 2000.0,         // Pa: yield stress of a fresh wet mix
+                    shear_strength: 5000.0,   // Pa: would slide off a wall beyond ≈ 222 mm
+                    cohesion: 2000.0,         // Pa: of the order of the fresh mix's yield stress
                 },
                 erosion: ErosionDefaults { model: ErosionKind::None, ..EROSION },
-                window: WindowParams { standoff: [1.0, 2.0], max_angle: 20.0, speed: [0.0, 1.0] }, // ASA: 1–2 m, square on; rebound rises beyond 20°
+                // ASA: 1–2 m, square on; rebound rises beyond 20°. Travel speed: v = Q (1 − R) /
+                // (t s), a 25–66 mm pass over bands s = 0.1–0.3 m at 5.4 m³/h (ACI 506R: small
+                // circles advancing along the pass; the circling tip speed is not the travel).
+                window: WindowParams { standoff: [1.0, 2.0], max_angle: 20.0, speed: [0.05, 0.5] },
                 sag_threshold: 0.0,
                 drip_interval: 0.0,
             },
@@ -80,18 +136,21 @@ impl Preset {
                 impact: ImpactDefaults {
                     alpha: 0.0, // Table 1: rebound suppressed, every impact adheres
                     rebound_model: ReboundKind::Polynomial,
-                    rebound_polynomial: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec(),
                     restitution: 0.0,   // Table 1: N/A
                     scatter_angle: 0.0, // Table 1: negligible
                     rest_speed: 0.0,
                     rest_max_slope: 45.0,
-                    cushion_factor: 1.0, // the cushion effect (ACI 506) is off by default
-                    cushion_thickness: 0.0,
+                    cushion_radius: 0.0,
+                    ..mix()
                 },
-                // Table 1: no cohesive failure (sagging is a separate model).
+                // Table 1: no cohesive failure; a film's slump is the sag and drip model (its
+                // 120 µm sag limit is a yield stress of ρ g t ≈ 1.4 Pa).
+                slump: SlumpParams { yield_stress: 1.4, ..SLUMP_OFF },
                 cohesion: CohesionParams { interval: 0.0, ..COHESION_OFF },
                 erosion: ErosionDefaults { model: ErosionKind::None, ..EROSION },
-                window: WindowParams { standoff: [0.15, 0.3], max_angle: 15.0, speed: [0.2, 1.0] }, // air spray guns: 15–30 cm, near square
+                // Air spray guns: 15–30 cm, near square; about 0.3 m/s conventional, 0.45 m/s HVLP
+                // (Duffy, Auto Collision Repair and Refinishing, ch. 28; NAVAIR 01-1A-509-2).
+                window: WindowParams { standoff: [0.15, 0.3], max_angle: 15.0, speed: [0.2, 0.6] },
                 sag_threshold: 120e-6, // a wet film of about 120 µm starts to sag on a vertical panel,
                 drip_interval: 0.0,
             },
@@ -104,18 +163,20 @@ impl Preset {
                 impact: ImpactDefaults {
                     alpha: 1.0,
                     rebound_model: ReboundKind::Always, // Table 1: forced rebound, p_r ≡ 1
-                    rebound_polynomial: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec(),
-                    restitution: 0.75,   // Table 1: 0.6–0.9
-                    scatter_angle: 20.0, // Table 1: moderate–large
-                    rest_speed: 0.5,     // grains come to rest on the floor
+                    restitution: 0.75,                  // Table 1: 0.6–0.9
+                    scatter_angle: 20.0,                // Table 1: moderate–large
+                    rest_speed: 0.5,                    // grains come to rest on the floor
                     rest_max_slope: 45.0,
-                    cushion_factor: 1.0, // the cushion effect (ACI 506) is off by default
-                    cushion_thickness: 0.0,
+                    cushion_radius: 0.0,
+                    ..mix()
                 },
-                // Table 1: no cohesive failure.
+                // Table 1: no cohesive failure; dry grit does not slump.
+                slump: SLUMP_OFF,
                 cohesion: CohesionParams { interval: 0.0, ..COHESION_OFF },
                 erosion: ErosionDefaults { model: ErosionKind::Finnie, ..EROSION },
-                window: WindowParams { standoff: [0.3, 0.9], max_angle: 45.0, speed: [0.0, 1.0] }, // 30–90 cm, 45–90° to the surface
+                // 30–90 cm, 45–90° to the surface; one full-dose pass at v = P / w, 9–21 m²/h over
+                // a 50–150 mm cleaning width (MIL-HDBK-1110; abrasive suppliers' charts).
+                window: WindowParams { standoff: [0.3, 0.9], max_angle: 45.0, speed: [0.02, 0.15] },
                 sag_threshold: 0.0,
                 drip_interval: 0.0,
             },
@@ -178,18 +239,26 @@ const UNITS: &[(&str, &str)] = &[
     ("max_lifetime", "s"),
     ("coverage_threshold", "m"),
     ("alpha", "P(rebound) = α · p_r(θ), 0–1"),
-    ("rebound_model", "polynomial | always | never"),
-    ("rebound_polynomial", "p_r = Σ cᵢ (θ/90°)ⁱ, θ from the normal"),
+    ("rebound_model", "polynomial | cushion | always | never"),
+    ("rebound_polynomial", "p_r = Σ cᵢ (θ/90°)ⁱ, θ from the normal (cushion: the ricochet share)"),
+    ("aggregate_fraction", "volume share of aggregate grains, 0–1"),
+    ("grading", "[[diameter in m, share finer], …]"),
+    ("capture_ratio", "a grain bounces off a layer thinner than this × its diameter"),
+    ("trap_ratio", "a rebound stays in a layer at least this × its diameter deep"),
+    ("cushion_radius", "m, the layer under an impact is averaged over it"),
     ("restitution", "rebound speed / impact speed"),
     ("scatter_angle", "degrees, half-angle about the specular direction"),
     ("rest_speed", "m/s"),
     ("rest_max_slope", "degrees from +z"),
-    ("cushion_factor", "rebound multiplier on bare substrate, 1 = off"),
-    ("cushion_thickness", "m, layer at which the multiplier reaches 1"),
+    ("process.slump.interval", "s between relaxations, 0 = off"),
+    ("yield_stress", "Pa"),
+    ("max_sweeps", "relaxation sweeps per interval at most"),
     ("interval", "s between failure analyses, 0 = off"),
     ("sag_threshold", "m of wet film that sags on a vertical face, 0 = off"),
     ("drip_interval", "s between drip passes, 0 = off"),
     ("standoff", "m, [min, max] recommended"),
+    ("process.window.speed", "m/s, [min, max] travel along the path (without a superposed circle)"),
+    ("hardness", "GPa, Vickers (Oka's angle function)"),
     ("max_angle", "degrees off square, recommended"),
     ("model", "erosion: none | finnie | oka"),
     ("finnie_k", "m³/J"),
@@ -221,14 +290,30 @@ const UNITS: &[(&str, &str)] = &[
 fn source(preset: Preset, key: &str) -> Option<&'static str> {
     use Preset::*;
     Some(match (preset, key) {
+        (Shotcrete, "process.window.speed") => "a 25–66 mm pass over 0.1–0.3 m bands at 5.4 m³/h",
+        (Painting, "process.window.speed") => "0.3 conventional, 0.45 HVLP (Duffy; NAVAIR 01-1A-509-2)",
+        (Blasting, "process.window.speed") => "one full-dose pass, 9–21 m²/h over 50–150 mm (MIL-HDBK-1110)",
+        (_, "process.erosion.coating.hardness") => "paint or epoxy, for the angle function only",
+        (_, "process.erosion.coating.oka_e90") => {
+            "about 1e-5 m³ of coat per kg of grit at best (productivity)"
+        }
+        (_, "process.erosion.coating.finnie_k") => "the same productivity at 125 m/s",
+        (_, "process.erosion.substrate.hardness") => "mild steel, 120–170 HV",
+        (_, "process.erosion.substrate.oka_e90") => "65 Hv^-0.12 mm³/kg (Oka et al. 2005)",
+        (_, "process.erosion.substrate.finnie_k") => "steel, Oka et al. 2005 at 104 m/s",
         (Shotcrete, "density") => "fresh wet-mix concrete",
         (Shotcrete, "flow_rate") => "5.4 m³/h, a typical wet-mix nozzle (4–10 m³/h)",
         (Shotcrete, "alpha") => "Table 1: angle-based",
-        (Shotcrete, "rebound_polynomial") => "10 % at 0°, 40 % at 45° (ASA, vendors)",
+        (Shotcrete, "rebound_polynomial") => "the aggregate's share of 40 % at 45° (ASA, vendors)",
+        (Shotcrete, "aggregate_fraction") => "sand 40–60 %, coarse 10–20 % (Morgan & Jolin 2022)",
+        (Shotcrete, "grading") => "ACI 506R gradation No. 2, mid-band",
+        (Shotcrete, "capture_ratio") => "Poncelet penetration: 0.5–2.2; calibrated to ACI's wall rebound",
+        (Shotcrete, "yield_stress") => "40–80 mm slump (Hu & de Larrard); build-ups of Yun et al. 2016",
+        (Painting, "yield_stress") => "ρ g × the 120 µm sag limit; the drip model acts instead",
         (Shotcrete, "restitution") => "Table 1: 0.03–0.05",
         (Shotcrete, "scatter_angle") => "Table 1: small",
         (Shotcrete, "spawn_rate") => "Table 1: 10⁴",
-        (Shotcrete, "speed") => "Table 1: 20–30 (wet-mix)",
+        (Shotcrete, "emitter.speed") => "Table 1: 20–30 (wet-mix)",
         (Shotcrete, "diameter") => "Table 1: 32–76 mm",
         (Shotcrete, "cone_angle") => "Table 1: 9–18",
         (Shotcrete, "mu" | "sigma") => "paper: fit to Ginouse & Jolin's wet-mix profiles",
@@ -236,7 +321,7 @@ fn source(preset: Preset, key: &str) -> Option<&'static str> {
         (Painting, "flow_rate") => "300 mL/min, an air spray gun",
         (Painting, "alpha") => "Table 1: rebound suppressed",
         (Painting, "spawn_rate") => "Table 1: 10⁴–10⁵",
-        (Painting, "speed") => "Table 1: 20–60",
+        (Painting, "emitter.speed") => "Table 1: 20–60",
         (Painting, "diameter") => "Table 1: 0.5–2 mm",
         (Painting, "cone_angle") => "Table 1: 15–120",
         (Painting, "shape") => "Table 1: point / rectangular / annulus",
@@ -246,7 +331,7 @@ fn source(preset: Preset, key: &str) -> Option<&'static str> {
         (Blasting, "restitution") => "Table 1: 0.6–0.9",
         (Blasting, "scatter_angle") => "Table 1: moderate–large",
         (Blasting, "spawn_rate") => "Table 1: 10³–10⁵",
-        (Blasting, "speed") => "Table 1: 100–200",
+        (Blasting, "emitter.speed") => "Table 1: 100–200",
         (Blasting, "diameter") => "Table 1: 3.2–19.1 mm (No. 6 nozzle)",
         (Blasting, "cone_angle") => "Table 1: 15",
         _ => return None,
@@ -267,10 +352,23 @@ pub fn presets_toml() -> String {
         let sections = Sections { process: preset.resolved_process(), emitter: preset.resolved_emitter() };
         let text = toml::to_string(&sections).unwrap_or_else(|e| panic!("presets always serialise: {e}"));
         out.push_str(&format!("\n# ---- {} ----\n", preset.name()));
+        let mut section = "";
         for line in text.lines() {
+            if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+                section = name;
+            }
             let key = line.split(" = ").next().unwrap_or_default();
-            let unit = UNITS.iter().find(|(k, _)| *k == key).map(|(_, u)| *u);
-            match (unit, source(preset, key)) {
+            // A key's own entry in its section first (`process.window.speed`), else by name.
+            let full = format!("{section}.{key}");
+            let lookup = |table: &[(&str, &'static str)]| {
+                table
+                    .iter()
+                    .find(|(k, _)| *k == full)
+                    .or_else(|| table.iter().find(|(k, _)| *k == key))
+                    .map(|(_, u)| *u)
+            };
+            let unit = lookup(UNITS);
+            match (unit, source(preset, &full).or_else(|| source(preset, key))) {
                 (Some(u), Some(s)) => out.push_str(&format!("{line:<46} # {u}; {s}\n")),
                 (Some(u), None) => out.push_str(&format!("{line:<46} # {u}\n")),
                 _ => out.push_str(&format!("{line}\n")),

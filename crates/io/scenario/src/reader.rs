@@ -180,6 +180,39 @@ impl<'a> Section<'a> {
             .collect()
     }
 
+    /// A list of `[a, b]` pairs of finite numbers, at most `max` of them.
+    pub fn pairs(&self, k: &str, default: Option<Vec<[f64; 2]>>, max: usize) -> Read<Vec<[f64; 2]>> {
+        let key = self.key(k);
+        let Some(v) = self.raw(k) else {
+            return default.map_or_else(|| bad(&key, "is required"), Ok);
+        };
+        let what = "must be an array of [a, b] pairs of numbers";
+        let Value::Array(items) = v else { return bad(&key, format!("{what}, got {}", kind(v))) };
+        if items.len() > max {
+            return bad(&key, format!("must have at most {max} pairs, got {}", items.len()));
+        }
+        items
+            .iter()
+            .map(|item| {
+                let Value::Array(pair) = item else {
+                    return bad(&key, format!("{what}, got {} in it", kind(item)));
+                };
+                let num = |v: &Value| match v {
+                    Value::Float(f) => Some(*f),
+                    Value::Integer(i) => Some(*i as f64),
+                    _ => None,
+                };
+                match pair.as_slice() {
+                    [a, b] => match (num(a), num(b)) {
+                        (Some(a), Some(b)) if a.is_finite() && b.is_finite() => Ok([a, b]),
+                        _ => bad(&key, format!("{what}: every value a finite number")),
+                    },
+                    _ => bad(&key, format!("{what}, got a list of {} values in it", pair.len())),
+                }
+            })
+            .collect()
+    }
+
     /// A point, m: three finite numbers within [`MAX_COORD`] of the origin.
     pub fn point(&self, k: &str, default: Option<[f64; 3]>) -> Read<[f64; 3]> {
         self.numbers(k, default, Check::Within(-MAX_COORD, MAX_COORD), "m")

@@ -147,13 +147,13 @@ impl Scenario {
             &process.preset.emitter_defaults(),
             simulation.duration,
         )?;
-        let fallback = process.preset.defaults().impact.rebound_polynomial;
+        let preset = process.preset.defaults().impact;
         let mut names = Vec::new();
         let targets = (root.tables("target")?.iter())
-            .map(|t| read::target(t, &mut names, &process.impact, &fallback))
+            .map(|t| read::target(t, &mut names, &process.impact, &preset))
             .collect::<Read<Vec<_>>>()?;
         let obstacles = (root.tables("obstacle")?.iter())
-            .map(|o| read::obstacle(o, &mut names, &process.impact, &fallback, &source.base))
+            .map(|o| read::obstacle(o, &mut names, &process.impact, &preset, &source.base))
             .collect::<Read<Vec<_>>>()?;
         let nozzle =
             read::nozzle(&root.table_or_empty("nozzle")?, &source.base, &targets, simulation.duration)?;

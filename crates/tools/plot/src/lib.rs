@@ -17,6 +17,9 @@ pub enum Mark {
     Points,
     /// Circles joined by a thin line.
     LinePoints,
+    /// Ranges: the points in pairs `(x, low), (x, high)`, each drawn as a vertical bar with caps
+    /// (published ranges, bands of acceptance).
+    Ranges,
 }
 
 /// One labelled series of `(x, y)` points.
@@ -133,11 +136,20 @@ pub fn render(chart: &Chart) -> Result<image::RgbImage, String> {
             let pts: Vec<(f64, f64)> =
                 s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
             let width = if s.mark == Mark::Line { 2 } else { 1 };
+            let cap = 0.01 * (x1 - x0);
             let drawn = match s.mark {
                 Mark::Points => ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled()))),
                 Mark::Line | Mark::LinePoints => {
                     ctx.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(width)))
                 }
+                Mark::Ranges => ctx.draw_series(pts.chunks_exact(2).flat_map(|pair| {
+                    let ((x, lo), (_, hi)) = (pair[0], pair[1]);
+                    [
+                        PathElement::new(vec![(x, lo), (x, hi)], color.stroke_width(3)),
+                        PathElement::new(vec![(x - cap, lo), (x + cap, lo)], color.stroke_width(2)),
+                        PathElement::new(vec![(x - cap, hi), (x + cap, hi)], color.stroke_width(2)),
+                    ]
+                })),
             }
             .map_err(|e| e.to_string())?;
             drawn

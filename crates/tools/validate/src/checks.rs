@@ -18,7 +18,7 @@ fn scene(text: &str, origin: &str) -> Scenario {
     Scenario::from_toml(text, origin).unwrap_or_else(|e| panic!("built-in validation scene: {e}"))
 }
 
-fn run(sc: &Scenario, threads: usize) -> Simulation {
+pub(crate) fn run(sc: &Scenario, threads: usize) -> Simulation {
     let mut sim = sc.build().unwrap_or_else(|e| panic!("built-in validation scene: {e}"));
     // Thread counts are validated by the caller; results do not depend on them.
     let _ = sim.set_threads(threads);
@@ -272,8 +272,8 @@ pub fn landing_x_closed_form() -> f64 {
     7.0 * (2.0 * 1.2 / 9.81_f64).sqrt()
 }
 
-/// The shotcrete preset's rebound curve, evaluated independently of the engine:
-/// p_r(θ) = 0.10 + 2.4 (θ/90°)³, clamped to `[0, 1]` (θ in degrees from the normal).
+/// The shotcrete field curve (the preset's polynomial law), evaluated independently of the
+/// engine: p_r(θ) = 0.10 + 2.4 (θ/90°)³, clamped to `[0, 1]` (θ in degrees from the normal).
 pub fn shotcrete_rebound_probability(theta_deg: f64) -> f64 {
     let x = theta_deg / 90.0;
     let c = SHOTCRETE_REBOUND_POLYNOMIAL;
@@ -287,7 +287,7 @@ pub struct ReboundFraction {
     pub theta_deg: f64,
     /// Material factor α.
     pub alpha: f64,
-    /// Measured rebound ratio.
+    /// Measured share that rebounds from its first impact.
     pub measured: f64,
     /// α · p_r(θ).
     pub expected: f64,
@@ -339,9 +339,10 @@ pub fn tilted_plate(theta_deg: f64, alpha: f64, particles: f64, seed: u64, impac
     )
 }
 
-/// A straight-down jet of `particles` onto a shotcrete plate tilted by `theta_deg`: gravity
-/// acts along the flight path, so every impact happens at exactly that angle. Runs with the
-/// same `seed` share their random numbers, so their errors are correlated.
+/// A straight-down jet of `particles` onto a shotcrete plate tilted by `theta_deg`, with the
+/// polynomial rebound law: gravity acts along the flight path, so every impact happens at
+/// exactly that angle. Runs with the same `seed` share their random numbers, so their errors
+/// are correlated.
 pub fn rebound_fraction(
     theta_deg: f64,
     alpha: f64,
@@ -349,12 +350,15 @@ pub fn rebound_fraction(
     seed: u64,
     threads: usize,
 ) -> ReboundFraction {
-    let sc = tilted_plate(theta_deg, alpha, particles, seed, "");
+    // The field curve itself: the preset's capture law reads the layer, which this check does
+    // not build.
+    let sc = tilted_plate(theta_deg, alpha, particles, seed, r#"rebound_model = "polynomial""#);
     let m = run(&sc, threads).metrics();
     ReboundFraction {
         theta_deg,
         alpha,
-        measured: m.rebound_ratio.unwrap_or(f64::NAN),
+        // What bounces at the first impact: a rebound may land on the plate again.
+        measured: m.bounce_ratio.unwrap_or(f64::NAN),
         expected: (alpha * shotcrete_rebound_probability(theta_deg)).clamp(0.0, 1.0),
         n: m.emitted.count,
         conserved: conserved(&m),
@@ -394,8 +398,7 @@ pub fn restitution(restitution: f64, scatter: f64, n: u64) -> Restitution {
         scatter,
         rest_speed: 0.0,
         rest_max_slope: 0.0,
-        cushion_factor: 1.0,
-        cushion_thickness: 0.0,
+        cushion_radius: 0.0,
     };
     // Normal incidence: the specular direction is the normal and the cone stays off the surface.
     let (normal, v) = (DVec3::Z, DVec3::new(0.0, 0.0, -10.0));
@@ -403,7 +406,8 @@ pub fn restitution(restitution: f64, scatter: f64, n: u64) -> Restitution {
     let mut counts = vec![0u64; BINS];
     let (mut speed, mut max_scatter) = (0.0, 0.0_f64);
     for _ in 0..n {
-        let Outcome::Rebound(out) = model.resolve(v, normal, None, &mut rng) else {
+        let Outcome::Rebound(out) = model.resolve(&ImpactModel::site(v, normal, None, 0.0, false), &mut rng)
+        else {
             continue;
         };
         speed += out.length();
@@ -518,6 +522,9 @@ pub fn sprayed_face(
             flow_rate = {flow}
             [process.impact]
             rebound_model = "never"
+            # Failure in isolation: slump would cap a wall at τ_y/(ρ g), below its shear limit.
+            [process.slump]
+            interval = 0.0
             # Weak cohesion: the few cells that particle noise keeps under the threshold must not
             # hold the whole layer, so that failure follows the adhesive thresholds.
             [process.cohesion]

@@ -5,6 +5,8 @@
 //! (`spraysim validate`). The test suite runs the same experiments at a smaller size.
 
 pub mod checks;
+pub mod shotcrete;
+mod shotcrete_report;
 
 use checks::*;
 use spraysim_engine::emission::Direction;
@@ -131,6 +133,12 @@ pub fn report(size: Size, threads: usize, mut progress: impl FnMut(&str)) -> Rep
     ballistics_section(&mut w);
     progress("rebound fraction");
     rebound_section(&mut w, size, threads);
+    progress("shotcrete rebound against orientation");
+    shotcrete_report::orientation_section(&mut w, threads);
+    progress("cushion effect");
+    shotcrete_report::cushion_section(&mut w, threads);
+    progress("slump");
+    shotcrete_report::slump_section(&mut w);
     progress("restitution and scatter");
     restitution_section(&mut w, size);
     progress("conservation");
@@ -391,10 +399,10 @@ fn rebound_section(w: &mut Writer, size: Size, threads: usize) {
         "Rebound fraction against impact angle",
         &format!(
             "A straight-down jet onto a shotcrete plate tilted by θ, so that gravity acts along the flight path and \
-             every impact is at exactly θ from the normal; {:.0} particles per angle, with α = 1 and with α = 0.5, each run \
-             with its own seed. The \
-             rebound ratio must match α · p_r(θ), with p_r(θ) = 0.10 + 2.4 (θ/90°)³ the shotcrete preset's curve \
-             (clamped to [0, 1]), within 4.5 binomial standard deviations at every angle.",
+             every impact is at exactly θ from the normal; {:.0} particles per angle, with α = 1 and with α = 0.5, \
+             each run with its own seed. The share that rebounds at its first impact (the bounce ratio) must match \
+             α · p_r(θ), with p_r(θ) = 0.10 + 2.4 (θ/90°)³ the shotcrete field curve (`rebound_model = \"polynomial\"`, \
+             clamped to [0, 1]), within 4.5 binomial standard deviations at every angle.",
             size.rebound_particles
         ),
     );
@@ -431,7 +439,7 @@ fn rebound_section(w: &mut Writer, size: Size, threads: usize) {
             Mark::Points,
         ));
     }
-    w.table(&["θ [°]", "α", "rebound ratio", "α · p_r(θ)", "difference [σ]"], &rows);
+    w.table(&["θ [°]", "α", "bounce ratio", "α · p_r(θ)", "difference [σ]"], &rows);
     w.chart(
         "rebound_fraction",
         Chart {

@@ -12,6 +12,7 @@ use spraysim::output::heatmap;
 use spraysim::particles::flags;
 use spraysim::scenario::{Colormap, ParticleColoring, RenderParams, Scenario};
 use spraysim::world::Target;
+use std::borrow::Cow;
 
 /// Background of every view (RGBA).
 pub const BACKGROUND: [u8; 4] = [244, 245, 247, 255];
@@ -322,11 +323,14 @@ impl Scene {
 }
 
 /// The values a target's colours show, per cell, if it has them.
-fn field_values(t: &Target, field: Field) -> Option<&[f64]> {
+fn field_values(t: &Target, field: Field) -> Option<Cow<'_, [f64]>> {
     match field {
-        Field::Thickness | Field::Auto => Some(t.surface.thickness()),
-        Field::Erosion => t.erosion.as_ref().map(|e| e.eroded.as_slice()),
-        Field::Coating => t.erosion.as_ref().map(|e| e.coating.as_slice()),
+        Field::Thickness | Field::Auto => Some(Cow::Borrowed(t.surface.thickness())),
+        // Coating and substrate together.
+        Field::Erosion => {
+            t.erosion.as_ref().map(|e| Cow::Owned((0..e.coating.len()).map(|c| e.eroded(c)).collect()))
+        }
+        Field::Coating => t.erosion.as_ref().map(|e| Cow::Borrowed(e.coating.as_slice())),
     }
 }
 
@@ -372,7 +376,7 @@ fn add_target(mesh: &mut Mesh, t: &Target, field: Field, max: f64, opts: &SceneO
     for (tri, &cell) in m.triangles.iter().zip(&m.cell) {
         for &v in tri {
             let v = v as usize;
-            sum[v] += values.map_or(0.0, |x| x[cell as usize]);
+            sum[v] += values.as_ref().map_or(0.0, |x| x[cell as usize]);
             count[v] += 1;
             mark[v] = mark[v].max(t.failure_mask.get(cell as usize).copied().unwrap_or(0));
         }

@@ -4,12 +4,15 @@
 //! Each cell's self-weight per area, ρ g t, is resolved against the face's orientation into a
 //! pull-off stress (the part of gravity along the face's outward normal) and a shear stress (the
 //! part along the face). A cell is over-loaded when either exceeds the adhesive strength of the
-//! layer on the substrate. Over-loaded cells are clustered into 8-connected regions. A region
-//! fails when the load its substrate cannot carry, Σ A · max(σ − f_t, τ − f_s), exceeds what the
-//! intact layer around it can hold: cohesion × Σ (boundary edge length × thickness) over edges
-//! to neighbouring cells that carry material and are not in the region. Large patches therefore
-//! fall while small ones hang on, a uniform layer on a ceiling fails once ρ g t > f_t, on a wall
-//! once ρ g t > f_s, and a floor never fails.
+//! layer on the substrate. Over-loaded cells are clustered into 8-connected regions. The load
+//! a region's substrate cannot carry, Σ A · max(σ − f_t, τ − f_s), must be handed on through the
+//! layer around it: across each ring of cells around the region in turn, the layer carries at
+//! most cohesion × Σ (edge length × shared thickness) (the thinner of the two cells'), and each
+//! ring's own substrate takes what its adhesion has to spare, Σ A · min(f_t − σ, f_s − τ). The
+//! region holds if the load is absorbed before it meets a ring boundary too thin to pass it on,
+//! and falls otherwise. Large patches therefore fall while small ones on a thick enough layer
+//! hang on, a lump cannot hang from a thin rim, a uniform layer on a ceiling fails once
+//! ρ g t > f_t, on a wall once ρ g t > f_s, and a floor never fails.
 
 use super::{LayerContext, LayerStage, Release};
 use crate::deposit::DepositSurface;
@@ -34,7 +37,7 @@ pub struct Region {
     pub cells: Vec<u32>,
     /// Load the substrate cannot carry, N.
     pub driving: f64,
-    /// Load the surrounding layer can hold, N.
+    /// Largest load the surrounding layer could take from it, N.
     pub holding: f64,
 }
 
@@ -91,6 +94,14 @@ impl Stresses {
 
 /// Finds the over-loaded regions of a deposit.
 pub fn analyse(surface: &impl DepositSurface, density: f64, gravity: DVec3, s: &Strength) -> Analysis {
+    // A flat surface whose thickest cell is within both strengths has nothing to analyse.
+    if let Some(n) = surface.uniform_normal() {
+        let (pull, shear) = stress_per_thickness(density, gravity, n);
+        let top = surface.max_thickness();
+        if top * pull <= s.tensile && top * shear <= s.shear {
+            return Analysis::default();
+        }
+    }
     let stress = Stresses::of(surface, density, gravity);
     let t = surface.thickness();
     let over = |i: usize| {
@@ -98,6 +109,7 @@ pub fn analyse(surface: &impl DepositSurface, density: f64, gravity: DVec3, s: &
         t[i] * pull > s.tensile || t[i] * shear > s.shear
     };
     let mut label = vec![u32::MAX; t.len()];
+    let mut seen = Seen { mark: vec![0; t.len()], next: 1 };
     let mut out = Analysis::default();
     let mut stack = Vec::new();
     for start in 0..t.len() {
@@ -120,21 +132,80 @@ pub fn analyse(surface: &impl DepositSurface, density: f64, gravity: DVec3, s: &
         }
         cells.sort_unstable();
         out.overloaded_cells += cells.len();
-        let (mut driving, mut holding) = (0.0, 0.0);
+        let mut driving = 0.0;
         for &c in &cells {
             let (pull, shear) = stress.at(c as usize);
             let tc = t[c as usize];
             driving += surface.cell_area(c) * (tc * pull - s.tensile).max(tc * shear - s.shear).max(0.0);
-            // Edges to intact, material-carrying cells hold the region by cohesion.
-            surface.neighbours(c, &mut |n, edge| {
-                if edge > 0.0 && label[n as usize] != id && t[n as usize] > 0.0 {
-                    holding += s.cohesion * edge * tc;
-                }
-            });
         }
+        let holding = support(surface, &stress, s, &cells, &mut seen);
         out.regions.push(Region { cells, driving, holding });
     }
     out
+}
+
+/// Marks of the cells the support search has reached: `mark[c]` is the stamp of the ring `c`
+/// was found in; stamps only grow, so a search sees the marks of earlier ones as unmarked.
+struct Seen {
+    mark: Vec<u32>,
+    next: u32,
+}
+
+impl Seen {
+    fn stamp(&mut self) -> u32 {
+        self.next += 1;
+        self.next - 1
+    }
+}
+
+/// The largest load (N) the layer around the region `cells` can take from it: the smallest,
+/// over the rings of cells around it, of what crosses that ring's inner boundary plus what the
+/// rings inside it absorb.
+fn support(
+    surface: &impl DepositSurface,
+    stress: &Stresses,
+    s: &Strength,
+    cells: &[u32],
+    seen: &mut Seen,
+) -> f64 {
+    let t = surface.thickness();
+    let spare = |c: u32| {
+        let (pull, shear) = stress.at(c as usize);
+        let tc = t[c as usize];
+        surface.cell_area(c) * (s.tensile - tc * pull).min(s.shear - tc * shear).max(0.0)
+    };
+    let first = seen.stamp();
+    cells.iter().for_each(|&c| seen.mark[c as usize] = first);
+    let (mut holding, mut absorbed) = (f64::INFINITY, 0.0);
+    let mut frontier = cells.to_vec();
+    let mut ring = Vec::new();
+    while absorbed < holding {
+        let stamp = seen.stamp();
+        let mut crossing = 0.0;
+        ring.clear();
+        for &c in &frontier {
+            surface.neighbours(c, &mut |n, edge| {
+                let (tn, m) = (t[n as usize], seen.mark[n as usize]);
+                // Edges into cells not yet reached, or reached by this ring.
+                if edge > 0.0 && tn > 0.0 && (m < first || m == stamp) {
+                    crossing += s.cohesion * edge * t[c as usize].min(tn);
+                    if m != stamp {
+                        seen.mark[n as usize] = stamp;
+                        ring.push(n);
+                    }
+                }
+            });
+        }
+        holding = holding.min(absorbed + crossing);
+        if ring.is_empty() {
+            break;
+        }
+        absorbed += ring.iter().map(|&c| spare(c)).sum::<f64>();
+        std::mem::swap(&mut frontier, &mut ring);
+    }
+    // Left by the loop's test, or by running out of rings (where nothing crossed), holding is
+    // at most what was absorbed.
+    holding
 }
 
 /// Cohesive failure: every interval, each target's layer is analysed; failing regions leave the
@@ -154,7 +225,11 @@ impl LayerStage for CohesionStage {
     fn run(&self, ctx: &mut LayerContext<'_>) {
         for t in ctx.targets.iter_mut() {
             let analysis = analyse(&t.surface, ctx.density, ctx.gravity, &self.strength);
-            t.failure_mask.iter_mut().filter(|m| **m == 1).for_each(|m| *m = 0);
+            // Cells over-loaded at the last analysis are cleared first (the mask keeps failures).
+            if t.at_risk {
+                t.failure_mask.iter_mut().filter(|m| **m == 1).for_each(|m| *m = 0);
+            }
+            t.at_risk = analysis.regions.iter().any(|r| !r.fails());
             for region in &analysis.regions {
                 if !region.fails() {
                     for &cell in &region.cells {

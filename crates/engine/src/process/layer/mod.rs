@@ -3,9 +3,11 @@
 
 mod cohesion;
 mod drip;
+mod slump;
 
 pub use cohesion::{Analysis, CohesionStage, Region, Strength, analyse, stress_per_thickness};
 pub use drip::DripStage;
+pub use slump::{Relaxation, RunOff, SlumpStage, relax};
 
 use crate::events::FailureEvent;
 use crate::particles::{Swarm, flags};
@@ -49,6 +51,8 @@ pub enum Release {
     Failure,
     /// Film running off a sagging surface.
     Drip,
+    /// A yield-stress layer slumping over the surface's edge.
+    RunOff,
 }
 
 /// Turns material removed from a layer into particles.
@@ -66,15 +70,23 @@ impl Releaser<'_> {
         use crate::deposit::DepositSurface;
         let removed = target.surface.remove(cell, volume);
         let pos = target.surface.point_above(cell, RELEASE_OFFSET);
+        self.emit(target, pos, DVec3::ZERO, removed, why);
+        removed
+    }
+
+    /// Releases `volume` (m³), already taken off `target`'s layer, as one particle at `pos` (m)
+    /// moving at `vel` (m/s).
+    pub fn emit(&mut self, target: &mut Target, pos: DVec3, vel: DVec3, volume: f64, why: Release) {
         let bits = flags::ALIVE | flags::RELEASED | flags::HIT_SUBSTRATE;
         // Validation bounds a run's particle count by 2³², so the id fits.
-        self.swarm.push_released(pos, DVec3::ZERO, removed as f32, *self.next_id as u32, bits);
+        self.swarm.push_released(pos, vel, volume as f32, *self.next_id as u32, bits);
         *self.next_id += 1;
-        self.tally.released.add(f64::from(removed as f32));
-        if why == Release::Drip {
-            self.tally.dripped.add(removed);
+        self.tally.released.add(f64::from(volume as f32));
+        match why {
+            Release::Drip => self.tally.dripped.add(volume),
+            Release::RunOff => self.tally.ran_off.add(volume),
+            Release::Failure => {}
         }
-        target.detached.add(removed);
-        removed
+        target.detached.add(volume);
     }
 }

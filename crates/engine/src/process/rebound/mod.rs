@@ -2,10 +2,12 @@
 //! α scales it), one law per file.
 
 mod always;
+mod cushion;
 mod never;
 mod polynomial;
 
 pub use always::AlwaysRebound;
+pub use cushion::CushionCapture;
 pub use never::NeverRebound;
 pub use polynomial::PolynomialRebound;
 

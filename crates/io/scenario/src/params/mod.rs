@@ -13,12 +13,15 @@ pub use emitter::{Aperture, DirectionLaw, EmitterParams};
 pub(crate) use emitter::{ApertureKind, DirectionKind, EmitterDefaults};
 pub use nozzle::{NozzleMotion, NozzleParams, RasterParams, WaypointParams};
 pub use process::{
-    CohesionParams, ErosionParams, ImpactParams, Preset, ProcessParams, ReboundParams, WindowParams,
+    CohesionParams, ErosionParams, FinnieLayer, ImpactParams, OkaLayer, Preset, ProcessParams, ReboundParams,
+    SlumpParams, WindowParams,
 };
-pub(crate) use process::{ErosionDefaults, ErosionKind, ImpactDefaults, ProcessDefaults, ReboundKind};
+pub(crate) use process::{
+    ErosionDefaults, ErosionKind, ImpactDefaults, LayerDefaults, ProcessDefaults, ReboundKind,
+};
 pub use render::{ParticleColoring, RenderCamera, RenderParams, RenderTime, ViewPreset, point_size};
 pub use run::{Colormap, DomainParams, OutputParams, SimulationParams};
-pub use surfaces::{MeshParams, ObstacleParams, ObstacleShape, TargetParams, TargetShape};
+pub use surfaces::{Edges, MeshParams, ObstacleParams, ObstacleShape, TargetParams, TargetShape};
 
 pub(crate) mod read {
     //! The section readers.

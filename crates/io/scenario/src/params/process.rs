@@ -1,5 +1,5 @@
 //! `[process]`: the material and what happens on impact, with `[process.impact]`,
-//! `[process.cohesion]`, `[process.erosion]` and `[process.window]`.
+//! `[process.slump]`, `[process.cohesion]`, `[process.erosion]` and `[process.window]`.
 
 use crate::reader::{Check, Read, Section, choices};
 use serde::Serialize;
@@ -55,6 +55,8 @@ pub struct ProcessParams {
     pub drip_interval: f64,
     /// Impact parameters of every surface that does not override them.
     pub impact: ImpactParams,
+    /// Slump of the fresh layer under its own weight.
+    pub slump: SlumpParams,
     /// Cohesive failure of deposited layers.
     pub cohesion: CohesionParams,
     /// Erosion of targets by impacts.
@@ -67,12 +69,14 @@ pub struct ProcessParams {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum ReboundKind {
     Polynomial,
+    Cushion,
     Always,
     Never,
 }
 
 choices!(ReboundKind {
     "polynomial" => ReboundKind::Polynomial,
+    "cushion" => ReboundKind::Cushion,
     "always" => ReboundKind::Always,
     "never" => ReboundKind::Never,
 });
@@ -85,6 +89,23 @@ pub enum ReboundParams {
     Polynomial {
         /// Coefficients c₀, c₁, …, dimensionless.
         rebound_polynomial: Vec<f64>,
+    },
+    /// Cushion capture: mortar sticks; an aggregate grain bounces off a plastic layer thinner
+    /// than `capture_ratio` × its diameter, and ricochets off a thicker one with the share
+    /// `rebound_polynomial` of the angle curve.
+    Cushion {
+        /// Ricochet curve: coefficients of Σ cᵢ xⁱ, x = θ/90°, dimensionless.
+        rebound_polynomial: Vec<f64>,
+        /// Volume share of aggregate grains in the mix, 0..1.
+        aggregate_fraction: f64,
+        /// Grading: `[diameter in m, share of the aggregate volume finer]` pairs, both
+        /// increasing, from share 0 to share 1.
+        grading: Vec<[f64; 2]>,
+        /// A grain bounces off a plastic layer thinner than this many times its diameter.
+        capture_ratio: f64,
+        /// A grain that has rebounded before stays in a plastic layer at least this many times
+        /// its diameter deep.
+        trap_ratio: f64,
     },
     /// p_r ≡ 1 (forced rebound).
     Always,
@@ -108,10 +129,20 @@ pub struct ImpactParams {
     pub rest_speed: f64,
     /// Steepest surface (angle of its normal from +z) on which a slow rebound can rest, degrees.
     pub rest_max_slope: f64,
-    /// Rebound probability multiplier on bare substrate (1: no cushion effect).
-    pub cushion_factor: f64,
-    /// Layer thickness at which the cushion multiplier has decayed to 1, m (0: off).
-    pub cushion_thickness: f64,
+    /// Radius over which the layer under an impact is averaged, m.
+    pub cushion_radius: f64,
+}
+
+/// `[process.slump]`: a fresh yield-stress layer flowing where its weight shears it past its
+/// yield stress (Nye's heap on a floor, τ_y/(ρ g) on a wall), and running off the edges.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SlumpParams {
+    /// Time between relaxations, s; 0 switches slump off.
+    pub interval: f64,
+    /// Yield stress of the fresh layer, Pa.
+    pub yield_stress: f64,
+    /// Most relaxation sweeps per interval; what is left flows on at the next interval.
+    pub max_sweeps: u32,
 }
 
 /// `[process.cohesion]`: cohesive failure of deposited layers.
@@ -137,7 +168,9 @@ pub(crate) enum ErosionKind {
 
 choices!(ErosionKind { "none" => ErosionKind::None, "finnie" => ErosionKind::Finnie, "oka" => ErosionKind::Oka });
 
-/// `[process.erosion]`: material removed from targets by impacts.
+/// `[process.erosion]`: material removed from targets by abrasive impacts. A target's coating
+/// (`[[target]] coating`) and the substrate under it each have their own resistance
+/// (`[process.erosion.coating]`, `[process.erosion.substrate]`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "model", rename_all = "snake_case")]
 pub enum ErosionParams {
@@ -145,30 +178,43 @@ pub enum ErosionParams {
     None,
     /// Finnie (ductile targets): V = k m v² f(γ).
     Finnie {
-        /// Finnie's constant k, m³/J.
-        finnie_k: f64,
+        /// The coating's constant.
+        coating: FinnieLayer,
+        /// The substrate's constant.
+        substrate: FinnieLayer,
     },
-    /// Oka: V = g(γ) E90 m.
+    /// Oka: V = g(γ) E90 m, with the angle function's exponents from the layer's hardness.
     Oka {
-        /// E90 at the reference speed and grain size, m³/kg.
-        oka_e90: f64,
-        /// Angle exponent n₁.
-        oka_n1: f64,
-        /// Angle exponent n₂.
-        oka_n2: f64,
-        /// Vickers hardness of the target, GPa.
-        oka_hv: f64,
-        /// Speed exponent k₂.
-        oka_k2: f64,
-        /// Grain-size exponent k₃.
-        oka_k3: f64,
-        /// Reference speed, m/s.
-        oka_v_ref: f64,
-        /// Reference grain diameter, m.
-        oka_d_ref: f64,
         /// Diameter of the abrasive grains, m.
         grain_diameter: f64,
+        /// Oka's reference speed, m/s.
+        oka_v_ref: f64,
+        /// Oka's reference grain diameter, m.
+        oka_d_ref: f64,
+        /// Oka's grain-size exponent k₃.
+        oka_k3: f64,
+        /// The coating's hardness and E90.
+        coating: OkaLayer,
+        /// The substrate's hardness and E90.
+        substrate: OkaLayer,
     },
+}
+
+/// Finnie's constant of one layer.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FinnieLayer {
+    /// Finnie's constant k, m³/J.
+    pub finnie_k: f64,
+}
+
+/// Oka's parameters of one layer.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct OkaLayer {
+    /// Vickers hardness Hv, GPa: sets the angle function's exponents.
+    pub hardness: f64,
+    /// Volume removed per kg of grit at normal incidence, the reference speed and grain size,
+    /// m³/kg.
+    pub oka_e90: f64,
 }
 
 /// `[process.window]`: the recommended working window of the nozzle.
@@ -191,6 +237,7 @@ pub(crate) struct ProcessDefaults {
     pub max_lifetime: f64,
     pub coverage_threshold: f64,
     pub impact: ImpactDefaults,
+    pub slump: SlumpParams,
     pub cohesion: CohesionParams,
     pub erosion: ErosionDefaults,
     pub window: WindowParams,
@@ -204,36 +251,52 @@ pub(crate) struct ImpactDefaults {
     pub alpha: f64,
     pub rebound_model: ReboundKind,
     pub rebound_polynomial: Vec<f64>,
+    pub ricochet_polynomial: Vec<f64>,
+    pub aggregate_fraction: f64,
+    pub grading: Vec<[f64; 2]>,
+    pub capture_ratio: f64,
+    pub trap_ratio: f64,
     pub restitution: f64,
     pub scatter_angle: f64,
     pub rest_speed: f64,
     pub rest_max_slope: f64,
-    pub cushion_factor: f64,
-    pub cushion_thickness: f64,
+    pub cushion_radius: f64,
 }
 
 impl ImpactDefaults {
-    /// The resolved `impact` as defaults for a surface's override; `polynomial` fills the
-    /// coefficients when the override switches to the polynomial model.
-    pub fn over(impact: &ImpactParams, polynomial: &[f64]) -> ImpactDefaults {
-        let (rebound_model, rebound_polynomial) = match &impact.rebound {
-            ReboundParams::Polynomial { rebound_polynomial } => {
-                (ReboundKind::Polynomial, rebound_polynomial.clone())
-            }
-            ReboundParams::Always => (ReboundKind::Always, polynomial.to_vec()),
-            ReboundParams::Never => (ReboundKind::Never, polynomial.to_vec()),
-        };
-        ImpactDefaults {
+    /// The resolved `impact` as defaults for a surface's override; `preset` fills the keys of
+    /// the models `impact` does not use, for an override that switches model.
+    pub fn over(impact: &ImpactParams, preset: &ImpactDefaults) -> ImpactDefaults {
+        let mut d = ImpactDefaults {
             alpha: impact.alpha,
-            rebound_model,
-            rebound_polynomial,
             restitution: impact.restitution,
             scatter_angle: impact.scatter_angle,
             rest_speed: impact.rest_speed,
             rest_max_slope: impact.rest_max_slope,
-            cushion_factor: impact.cushion_factor,
-            cushion_thickness: impact.cushion_thickness,
+            cushion_radius: impact.cushion_radius,
+            ..preset.clone()
+        };
+        match &impact.rebound {
+            ReboundParams::Polynomial { rebound_polynomial } => {
+                (d.rebound_model, d.rebound_polynomial) =
+                    (ReboundKind::Polynomial, rebound_polynomial.clone());
+            }
+            ReboundParams::Cushion {
+                rebound_polynomial,
+                aggregate_fraction,
+                grading,
+                capture_ratio,
+                trap_ratio,
+            } => {
+                d.rebound_model = ReboundKind::Cushion;
+                d.ricochet_polynomial = rebound_polynomial.clone();
+                (d.aggregate_fraction, d.grading) = (*aggregate_fraction, grading.clone());
+                (d.capture_ratio, d.trap_ratio) = (*capture_ratio, *trap_ratio);
+            }
+            ReboundParams::Always => d.rebound_model = ReboundKind::Always,
+            ReboundParams::Never => d.rebound_model = ReboundKind::Never,
         }
+        d
     }
 }
 
@@ -241,16 +304,20 @@ impl ImpactDefaults {
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct ErosionDefaults {
     pub model: ErosionKind,
-    pub finnie_k: f64,
-    pub oka_e90: f64,
-    pub oka_n1: f64,
-    pub oka_n2: f64,
-    pub oka_hv: f64,
-    pub oka_k2: f64,
-    pub oka_k3: f64,
+    pub grain_diameter: f64,
     pub oka_v_ref: f64,
     pub oka_d_ref: f64,
-    pub grain_diameter: f64,
+    pub oka_k3: f64,
+    pub coating: LayerDefaults,
+    pub substrate: LayerDefaults,
+}
+
+/// Every erosion key of one layer, whatever the model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct LayerDefaults {
+    pub hardness: f64,
+    pub oka_e90: f64,
+    pub finnie_k: f64,
 }
 
 /// Reads `[process]` over the defaults (`defaults` of its preset) of the preset it names.
@@ -272,6 +339,7 @@ pub(crate) fn read(s: &Section<'_>, defaults: impl Fn(Preset) -> ProcessDefaults
         sag_threshold: s.number("sag_threshold", Some(d.sag_threshold), Check::Within(0.0, 1.0), "m")?,
         drip_interval: s.number("drip_interval", Some(d.drip_interval), Check::Within(0.0, 1e6), "s")?,
         impact: read_impact(&s.table_or_empty("impact")?, &d.impact)?,
+        slump: read_slump(&s.table_or_empty("slump")?, &d.slump)?,
         cohesion: read_cohesion(&s.table_or_empty("cohesion")?, &d.cohesion)?,
         erosion: read_erosion(&s.table_or_empty("erosion")?, d)?,
         window: read_window(&s.table_or_empty("window")?, &d.window)?,
@@ -283,14 +351,23 @@ pub(crate) fn read(s: &Section<'_>, defaults: impl Fn(Preset) -> ProcessDefaults
 /// Reads an impact table over `d`: the process's own, or a surface's override of the process's.
 pub(crate) fn read_impact(s: &Section<'_>, d: &ImpactDefaults) -> Read<ImpactParams> {
     let kind = s.choice("rebound_model", Some(d.rebound_model))?;
+    let poly =
+        |default: &[f64]| s.list("rebound_polynomial", Some(default.to_vec()), 16, Check::Within(-1e6, 1e6));
     let rebound = match kind {
-        ReboundKind::Polynomial => ReboundParams::Polynomial {
-            rebound_polynomial: s.list(
-                "rebound_polynomial",
-                Some(d.rebound_polynomial.clone()),
-                16,
-                Check::Within(-1e6, 1e6),
+        ReboundKind::Polynomial => {
+            ReboundParams::Polynomial { rebound_polynomial: poly(&d.rebound_polynomial)? }
+        }
+        ReboundKind::Cushion => ReboundParams::Cushion {
+            rebound_polynomial: poly(&d.ricochet_polynomial)?,
+            aggregate_fraction: s.number(
+                "aggregate_fraction",
+                Some(d.aggregate_fraction),
+                Check::Within(0.0, 1.0),
+                "",
             )?,
+            grading: read_grading(s, &d.grading)?,
+            capture_ratio: s.number("capture_ratio", Some(d.capture_ratio), Check::Within(0.0, 100.0), "")?,
+            trap_ratio: s.number("trap_ratio", Some(d.trap_ratio), Check::Within(0.0, 100.0), "")?,
         },
         ReboundKind::Always => ReboundParams::Always,
         ReboundKind::Never => ReboundParams::Never,
@@ -312,15 +389,34 @@ pub(crate) fn read_impact(s: &Section<'_>, d: &ImpactDefaults) -> Read<ImpactPar
             Check::Within(0.0, 180.0),
             "degrees",
         )?,
-        cushion_factor: s.number("cushion_factor", Some(d.cushion_factor), Check::Within(0.0, 100.0), "")?,
-        cushion_thickness: s.number(
-            "cushion_thickness",
-            Some(d.cushion_thickness),
-            Check::Within(0.0, 10.0),
-            "m",
-        )?,
+        cushion_radius: s.number("cushion_radius", Some(d.cushion_radius), Check::Within(0.0, 1.0), "m")?,
     };
     s.finish(&format!("an impact table with rebound_model = \"{}\"", crate::reader::Choice::name(kind)))?;
+    Ok(p)
+}
+
+/// A grading: `[diameter m, share finer]` pairs, both strictly increasing, from 0 to 1.
+fn read_grading(s: &Section<'_>, default: &[[f64; 2]]) -> Read<Vec<[f64; 2]>> {
+    let key = s.key("grading");
+    let g = s.pairs("grading", Some(default.to_vec()), 64)?;
+    let increasing = g.windows(2).all(|w| w[1][0] > w[0][0] && w[1][1] > w[0][1]);
+    let ends = g.first().is_some_and(|p| p[1] == 0.0) && g.last().is_some_and(|p| p[1] == 1.0);
+    if g.len() < 2 || !increasing || !ends || g.iter().any(|p| p[0] <= 0.0 || p[0] > 1.0) {
+        return crate::reader::bad(
+            &key,
+            "must list [diameter in m, share finer] with both increasing, diameters in (0, 1] m, from share 0 to share 1",
+        );
+    }
+    Ok(g)
+}
+
+fn read_slump(s: &Section<'_>, d: &SlumpParams) -> Read<SlumpParams> {
+    let p = SlumpParams {
+        interval: s.number("interval", Some(d.interval), Check::Within(0.0, 1e6), "s")?,
+        yield_stress: s.number("yield_stress", Some(d.yield_stress), Check::Positive(1e9), "Pa")?,
+        max_sweeps: s.integer("max_sweeps", Some(i64::from(d.max_sweeps)), 1, 1_000_000)? as u32,
+    };
+    s.finish("[process.slump]")?;
     Ok(p)
 }
 
@@ -343,24 +439,40 @@ fn read_cohesion(s: &Section<'_>, d: &CohesionParams) -> Read<CohesionParams> {
 fn read_erosion(s: &Section<'_>, d: &ProcessDefaults) -> Read<ErosionParams> {
     let e = &d.erosion;
     let kind = s.choice("model", Some(e.model))?;
-    let unit = |k: &str, v: f64, hi: f64| s.number(k, Some(v), Check::Within(0.0, hi), "");
+    let (coat, sub) = (s.table_or_empty("coating")?, s.table_or_empty("substrate")?);
+    let finnie = |l: &Section<'_>, d: &LayerDefaults| -> Read<FinnieLayer> {
+        let k = l.number("finnie_k", Some(d.finnie_k), Check::Within(0.0, 1.0), "m³/J")?;
+        l.finish("a Finnie layer")?;
+        Ok(FinnieLayer { finnie_k: k })
+    };
+    let oka = |l: &Section<'_>, d: &LayerDefaults| -> Read<OkaLayer> {
+        let layer = OkaLayer {
+            hardness: l.number("hardness", Some(d.hardness), Check::Positive(100.0), "GPa")?,
+            oka_e90: l.number("oka_e90", Some(d.oka_e90), Check::Within(0.0, 1.0), "m³/kg")?,
+        };
+        l.finish("an Oka layer")?;
+        Ok(layer)
+    };
     let p = match kind {
         ErosionKind::None => ErosionParams::None,
         ErosionKind::Finnie => ErosionParams::Finnie {
-            finnie_k: s.number("finnie_k", Some(e.finnie_k), Check::Within(0.0, 1.0), "m³/J")?,
+            coating: finnie(&coat, &e.coating)?,
+            substrate: finnie(&sub, &e.substrate)?,
         },
         ErosionKind::Oka => ErosionParams::Oka {
-            oka_e90: s.number("oka_e90", Some(e.oka_e90), Check::Within(0.0, 1.0), "m³/kg")?,
-            oka_n1: unit("oka_n1", e.oka_n1, 10.0)?,
-            oka_n2: unit("oka_n2", e.oka_n2, 10.0)?,
-            oka_hv: s.number("oka_hv", Some(e.oka_hv), Check::Within(0.0, 100.0), "GPa")?,
-            oka_k2: unit("oka_k2", e.oka_k2, 10.0)?,
-            oka_k3: unit("oka_k3", e.oka_k3, 10.0)?,
+            grain_diameter: s.number("grain_diameter", Some(e.grain_diameter), Check::Positive(1.0), "m")?,
             oka_v_ref: s.number("oka_v_ref", Some(e.oka_v_ref), Check::Positive(1e4), "m/s")?,
             oka_d_ref: s.number("oka_d_ref", Some(e.oka_d_ref), Check::Positive(1.0), "m")?,
-            grain_diameter: s.number("grain_diameter", Some(e.grain_diameter), Check::Positive(1.0), "m")?,
+            oka_k3: s.number("oka_k3", Some(e.oka_k3), Check::Within(0.0, 10.0), "")?,
+            coating: oka(&coat, &e.coating)?,
+            substrate: oka(&sub, &e.substrate)?,
         },
     };
+    if kind == ErosionKind::None {
+        // Layers of an erosion that is off: refused like any key that does nothing.
+        coat.finish("[process.erosion] with model = \"none\"")?;
+        sub.finish("[process.erosion] with model = \"none\"")?;
+    }
     s.finish(&format!("[process.erosion] with model = \"{}\"", crate::reader::Choice::name(kind)))?;
     Ok(p)
 }

@@ -46,8 +46,24 @@ pub enum TargetShape {
         resolution: [u32; 2],
         /// Radius over which each stuck particle's volume is spread, m (0: one cell).
         splat_radius: f64,
+        /// `"free"`: a slumping layer runs off over the edges; `"held"`: formwork (or a floor
+        /// under a wall) holds it.
+        edges: Edges,
     },
 }
+
+/// What a target's edges do to a slumping layer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Edges {
+    /// The layer runs off over them.
+    #[default]
+    Free,
+    /// Formwork, or a floor under a wall, holds it.
+    Held,
+}
+
+choices!(Edges { "free" => Edges::Free, "held" => Edges::Held });
 
 impl TargetParams {
     /// `[width, height]` of the target's face, m.
@@ -202,8 +218,12 @@ fn not_parallel(key: &str, a: [f64; 3], b: [f64; 3], what: &str) -> Read<()> {
 }
 
 /// A surface's own impact table, laid over the process's.
-fn impact_override(s: &Section<'_>, process: &ImpactParams, fallback: &[f64]) -> Read<Option<ImpactParams>> {
-    s.table("impact")?.map(|t| read_impact(&t, &ImpactDefaults::over(process, fallback))).transpose()
+fn impact_override(
+    s: &Section<'_>,
+    process: &ImpactParams,
+    preset: &ImpactDefaults,
+) -> Read<Option<ImpactParams>> {
+    s.table("impact")?.map(|t| read_impact(&t, &ImpactDefaults::over(process, preset))).transpose()
 }
 
 /// Reads a `[[target]]`.
@@ -211,7 +231,7 @@ pub(crate) fn read_target(
     s: &Section<'_>,
     seen: &mut Vec<String>,
     process: &ImpactParams,
-    fallback: &[f64],
+    preset: &ImpactDefaults,
 ) -> Read<TargetParams> {
     let name = name(s, seen)?;
     let role = s.choice("role", Some(Role::Substrate))?;
@@ -220,7 +240,7 @@ pub(crate) fn read_target(
         TargetKind::Rectangle => read_rectangle(s)?,
     };
     let coating = s.number("coating", Some(0.0), Check::Within(0.0, 1.0), "m")?;
-    let impact = impact_override(s, process, fallback)?;
+    let impact = impact_override(s, process, preset)?;
     s.finish(&format!("a {} target", kind.name()))?;
     Ok(TargetParams { name, role, shape, coating, impact })
 }
@@ -243,7 +263,8 @@ fn read_rectangle(s: &Section<'_>) -> Read<TargetShape> {
     if cells > 32.0 {
         return bad(&s.key("splat_radius"), "spans more than 32 cells; lower it or the resolution");
     }
-    Ok(TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius })
+    let edges = s.choice("edges", Some(Edges::Free))?;
+    Ok(TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges })
 }
 
 /// Reads an `[[obstacle]]`; a mesh is read from `base`.
@@ -251,7 +272,7 @@ pub(crate) fn read_obstacle(
     s: &Section<'_>,
     seen: &mut Vec<String>,
     process: &ImpactParams,
-    fallback: &[f64],
+    preset: &ImpactDefaults,
     base: &Path,
 ) -> Read<ObstacleParams> {
     let name = name(s, seen)?;
@@ -262,7 +283,7 @@ pub(crate) fn read_obstacle(
         }
         e
     })?;
-    let impact = impact_override(s, process, fallback)?;
+    let impact = impact_override(s, process, preset)?;
     s.finish(&format!("a {} obstacle", kind.name()))?;
     Ok(ObstacleParams { name, shape, impact })
 }
