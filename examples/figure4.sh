@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
 # Runs the four Figure-4 scenes (same raster, four process set-ups) and copies their wall
-# heatmaps to docs/images/figure4/, where the README shows them side by side.
+# heatmaps and a 3D view of each with particles in flight (16 s into the raster) to
+# docs/images/figure4/, where the README shows them side by side; then renders the animated GIF
+# of the default scene. Needs the `render` feature (3D views) and a graphics adapter (Mesa's
+# software drivers will do).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --quiet
+cargo build --release --quiet --features render
 mkdir -p docs/images/figure4
+# The camera of the 3D views: in front of the wall, to its left and above, looking at its centre.
+view=(--set 'output.render={at=[16.0], size=[640,400], eye=[-2.6,-1.8,2.1], target=[-0.2,0.0,0.95]}')
 for scene in figure4a_shotcrete_rebar figure4b_shotcrete figure4c_painting figure4d_blasting; do
-    ./target/release/spraysim run "examples/$scene.toml" -o "out/$scene" -q
+    ./target/release/spraysim run "examples/$scene.toml" -o "out/$scene" -q "${view[@]}"
+    cp "out/$scene/view_16.000s.png" "docs/images/figure4/${scene}_3d.png"
     cp "out/$scene/wall_hits.png" "docs/images/figure4/${scene}_hits.png"
     # Maps that have something to show: a deposit, or the coat left and the steel worn.
     for map in thickness coating erosion; do
@@ -24,3 +30,6 @@ print(f"{sys.argv[2]}: transfer efficiency {pct(m['transfer_efficiency'])}, rebo
       + (f", cleaned {100 * w['erosion']['cleaned_fraction']:.1f} % of the wall" if w.get('erosion') and w['erosion']['cleaned_fraction'] is not None else ""))
 PY
 done
+# The default scene as an animation: 30 frames over its 2 s.
+./target/release/spraysim render -o out/default_3d --frames 30 --size 480x300 --at end -q
+cp out/default_3d/animation.gif docs/images/default_3d.gif

@@ -111,6 +111,22 @@ enum Command {
     },
     /// Print each process preset as TOML to paste into a scenario.
     Presets,
+    /// Run a scenario and render 3D views of it without a display: stills and an animation.
+    ///
+    /// Writes DIR/view_TIME.png for each `--at` time (`view_end.png` for `end`) and, with
+    /// `--frames N`, DIR/frames/frame_NNNN.png, DIR/animation.gif and, when `ffmpeg` is on the
+    /// PATH, DIR/animation.mp4. Needs the `render` feature (`cargo build --release --features
+    /// render`) and a graphics adapter (Mesa's software drivers will do).
+    Render(Box<render::RenderArgs>),
+    /// Open the live 3D window on a scenario (the `spraysim-view` program, built with
+    /// `cargo build --release -p spraysim-viewer`).
+    View {
+        /// Scenario file (TOML); the built-in default scene without one.
+        scenario: Option<PathBuf>,
+        /// Override a scenario value (see `run --set`).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
     /// Time the reference scene and its scaling variants; prints a Markdown table.
     Bench {
         /// Particles emitted per second in the throughput runs.
@@ -188,6 +204,8 @@ macro_rules! say {
     };
 }
 
+mod render;
+
 /// Writes `text` to stdout as it is.
 fn write_out(text: &str) -> Result<()> {
     std::io::stdout().lock().write_all(text.as_bytes())?;
@@ -235,7 +253,9 @@ fn dispatch(command: Command) -> Result<()> {
                         format!("# Spraying ends at {t:.3} s, before the end of the run at {duration} s.\n")
                     }
                     Some(t) => {
-                        format!("# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n")
+                        format!(
+                            "# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n"
+                        )
                     }
                     None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
                 };
@@ -254,7 +274,7 @@ fn dispatch(command: Command) -> Result<()> {
             let settings =
                 spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats: repeats as usize };
             spraysim_bench::run_matrix(&settings, &mut std::io::stdout().lock())?;
-            Ok(())
+            render::bench_line()
         }
         Command::Validate { output, size, threads } => validate(&output, size, threads),
         Command::Calibrate {
@@ -294,6 +314,8 @@ fn dispatch(command: Command) -> Result<()> {
             write_out(&spraysim::scenario::presets_toml())?;
             Ok(())
         }
+        Command::Render(args) => render::render(&args),
+        Command::View { scenario, set } => render::view(scenario.as_deref(), &set),
     }
 }
 
@@ -326,6 +348,8 @@ fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool
     };
     let dir = PathBuf::from(&scenario.output().directory);
     writable(&dir)?;
+    // Refused or set up before anything runs: a build without 3D views, or no graphics adapter.
+    let mut recorder = render::recorder(scenario)?;
     let mut sim = scenario.build()?;
     sim.set_threads(threads)?;
 
@@ -338,7 +362,14 @@ fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool
     );
     let start = Instant::now();
     let redraw = (sim.total_steps() / 200).max(1);
+    recorder.observe(&sim)?;
+    let mut failed = None;
     sim.run(|s| {
+        if failed.is_none()
+            && let Err(e) = recorder.observe(s)
+        {
+            failed = Some(e);
+        }
         if s.steps_done() % redraw == 0 || s.is_finished() {
             let wall = start.elapsed().as_secs_f64().max(1e-9);
             bar.set_position(s.steps_done());
@@ -351,10 +382,14 @@ fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool
         }
     });
     bar.finish_and_clear();
+    if let Some(e) = failed {
+        return Err(e);
+    }
     let wall = start.elapsed().as_secs_f64();
 
-    let files = spraysim::output::write_outputs(&sim, scenario, &dir)
+    let mut files = spraysim::output::write_outputs(&sim, scenario, &dir)
         .with_context(|| format!("writing outputs to {}", dir.display()))?;
+    files.extend(recorder.finish(&sim, &dir, quiet)?);
     if !quiet {
         print_summary(&sim.metrics(), wall)?;
         say!("wrote {} files to {}", files.len(), dir.display());

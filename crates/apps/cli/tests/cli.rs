@@ -221,3 +221,58 @@ fn bench_refuses_a_bad_reference_scene_without_a_panic() {
         assert!(o.stdout.is_empty(), "nothing printed before the refusal");
     }
 }
+
+#[cfg(not(feature = "render"))]
+#[test]
+fn a_build_without_3d_views_refuses_them_before_the_run_and_says_how_to_build_them() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), format!("{SMALL}\n[output]\nrender = true\n")).expect("write");
+    let o = spraysim(&["run", "s.toml", "-o", "res", "-q"], tmp.path());
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("[output] render") && stderr(&o).contains("--features render"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!tmp.path().join("res").exists(), "nothing is written");
+    let o = spraysim(&["render", "-o", "views"], tmp.path());
+    assert!(!o.status.success() && stderr(&o).contains("--features render"), "{}", stderr(&o));
+    // Its flags are checked all the same.
+    let o = spraysim(&["render", "-o", "views", "--size", "10x10"], tmp.path());
+    assert!(stderr(&o).contains("--size must be two sizes of 16 to 8192 px"), "{}", stderr(&o));
+    let o = spraysim(&["render", "-o", "views", "--at", "9"], tmp.path());
+    assert!(stderr(&o).contains("--at must be times within the run"), "{}", stderr(&o));
+}
+
+#[cfg(feature = "render")]
+#[test]
+fn render_writes_the_stills_asked_for_and_run_writes_its_views_with_its_outputs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    let o = spraysim(
+        &["render", "s.toml", "-o", "views", "--at", "0.02,end", "--size", "320x200", "-q"],
+        tmp.path(),
+    );
+    if !o.status.success() && stderr(&o).contains("no graphics adapter") && std::env::var_os("CI").is_none() {
+        return eprintln!("skipped: {}", stderr(&o));
+    }
+    assert!(o.status.success(), "{}", stderr(&o));
+    for name in ["view_0.020s.png", "view_end.png"] {
+        let img = image_size(&tmp.path().join("views").join(name));
+        assert_eq!(img, (320, 200), "{name}");
+    }
+    let with = format!("{SMALL}\n[output.render]\nat = [\"end\"]\nsize = [200, 120]\ncamera = \"front\"\n");
+    std::fs::write(tmp.path().join("r.toml"), with).expect("write");
+    let o = spraysim(&["run", "r.toml", "-o", "res", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(tmp.path().join("res/metrics.json").is_file());
+    assert_eq!(image_size(&tmp.path().join("res/view_end.png")), (200, 120));
+}
+
+/// Width and height of a PNG, from its header.
+#[cfg(feature = "render")]
+fn image_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}

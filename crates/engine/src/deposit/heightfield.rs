@@ -204,7 +204,8 @@ impl HeightField {
         let takes = |i: isize, j: isize| {
             (0..cols).contains(&(col + i))
                 && (0..rows).contains(&(row + j))
-                && ((i, j) == (0, 0) || !hole.get(((row + j) * cols + col + i) as usize).copied().unwrap_or(false))
+                && ((i, j) == (0, 0)
+                    || !hole.get(((row + j) * cols + col + i) as usize).copied().unwrap_or(false))
         };
         let n = self.splat.iter().filter(|&&(i, j)| takes(i, j)).count();
         let added = volume / (n as f64 * self.cell_area());

@@ -125,14 +125,15 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     /// The point `height` (m) in front of the bare surface at the centre of `cell`.
     fn point_above(&self, cell: u32, height: f64) -> DVec3;
 
-    /// Thickness per cell, m.
+    /// Thickness per cell, m. Its storage is allocated with the surface and written in place,
+    /// so it keeps its address for the surface's life (bindings view it without a copy).
     fn thickness(&self) -> &[f64];
 
     /// Mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s, weighted
     /// by area (`cell`'s own thickness when `radius` is below a cell), m.
     fn mean_thickness(&self, cell: u32, radius: f64) -> f64;
 
-    /// Impacts per cell (stuck or rebounded).
+    /// Impacts per cell (stuck or rebounded); stored in place like [`DepositSurface::thickness`].
     fn hits(&self) -> &[u32];
 
     /// Area of `cell` on the bare surface, m².

@@ -188,6 +188,24 @@ impl Simulation {
         &self.state.swarm
     }
 
+    /// Position (m), velocity (m/s) and age (s) of the particle in swarm slot `i` at the present
+    /// time ([`Simulation::time`]). These are the swarm's own arrays, except for a particle
+    /// asleep in free flight (exact integrator, see [`Simulation::set_lazy_flight`]), whose
+    /// arrays hold its state at the step it wakes: it is brought back to the present in closed
+    /// form. Panics if `i` is not a slot of the swarm.
+    pub fn particle_now(&self, i: usize) -> (glam::DVec3, glam::DVec3, f64) {
+        use crate::collision::Arc as Flight;
+        let s = &self.state.swarm;
+        let (pos, vel, age) = (s.pos[i], s.vel[i], f64::from(s.age[i]));
+        let wake = u64::from(s.wake[i]);
+        if wake <= self.state.step {
+            return (pos, vel, age);
+        }
+        let back = -((wake - self.state.step) as f64 * self.config.dt);
+        let flight = Flight { x0: pos, v0: vel, g: self.config.motion.gravity, duration: 0.0 };
+        (flight.at(back), flight.velocity(back), age + back)
+    }
+
     /// The collidable surfaces, indexed.
     pub fn scene(&self) -> &Scene {
         &self.state.scene

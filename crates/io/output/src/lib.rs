@@ -137,7 +137,10 @@ pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>
 }
 
 /// The arrays, heatmaps and 3D files of one target.
-fn target_files(t: &spraysim_engine::world::Target, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
+fn target_files(
+    t: &spraysim_engine::world::Target,
+    sc: &Scenario,
+) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
     let mut files = Vec::new();
     let layout = t.surface.layout();
     let shape = match &layout {
@@ -260,7 +263,13 @@ fn erosion_maps(
         scale.label = scale.label.replace("thickness", "coating left");
         let values = cut(&e.coating);
         let grid = heatmap::Grid { values: &values, ..*like };
-        let img = heatmap::render_range(&grid, &format!("{}: coating left", t.name), &scale, map, e.initial_coating);
+        let img = heatmap::render_range(
+            &grid,
+            &format!("{}: coating left", t.name),
+            &scale,
+            map,
+            e.initial_coating,
+        );
         out.push(("coating", img));
     }
     out
@@ -296,7 +305,11 @@ fn impact_csv(sim: &Simulation) -> String {
     out
 }
 
-fn npy_bytes<T: ndarray_npy::WritableElement>(shape: &[usize], data: &[T], at: &Path) -> Result<Vec<u8>, OutputError> {
+fn npy_bytes<T: ndarray_npy::WritableElement>(
+    shape: &[usize],
+    data: &[T],
+    at: &Path,
+) -> Result<Vec<u8>, OutputError> {
     use ndarray_npy::WriteNpyExt;
     let err = |message: String| OutputError::Npy { path: at.to_path_buf(), message };
     let array = ArrayViewD::from_shape(IxDyn(shape), data).map_err(|e| err(e.to_string()))?;

@@ -3,7 +3,9 @@
 use crate::params::*;
 use crate::scenario::Scenario;
 use glam::DVec3;
-use spraysim_engine::collision::{Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle};
+use spraysim_engine::collision::{
+    Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle,
+};
 use spraysim_engine::config::{
     ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
 };
@@ -216,7 +218,16 @@ fn erosion_laws(e: &ErosionParams) -> Option<Laws> {
 
 fn surface(shape: &TargetShape) -> Surface {
     match shape {
-        &TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges, ref openings } => {
+        &TargetShape::Rectangle {
+            center,
+            normal,
+            up,
+            size,
+            resolution,
+            splat_radius,
+            edges,
+            ref openings,
+        } => {
             let face = Face::new(v3(center), v3(normal), v3(up), size);
             let [cols, rows] = resolution.map(|r| r as usize);
             let rect = RectangleSurface::new(face, cols, rows, splat_radius)
@@ -237,11 +248,15 @@ fn surface(shape: &TargetShape) -> Surface {
                 .iter()
                 .map(|&t| match side {
                     MeshSide::Front => t,
-                    MeshSide::Back => Triangle { corners: [t.corners[0], t.corners[2], t.corners[1]], normal: -t.normal },
+                    MeshSide::Back => {
+                        Triangle { corners: [t.corners[0], t.corners[2], t.corners[1]], normal: -t.normal }
+                    }
                 })
                 .collect();
             // A mesh file with no triangle is refused when read.
-            Surface::Mesh(MeshSurface::new(triangles).unwrap_or_else(|e| unreachable!("checked when read: {e}")))
+            Surface::Mesh(
+                MeshSurface::new(triangles).unwrap_or_else(|e| unreachable!("checked when read: {e}")),
+            )
         }
     }
 }

@@ -62,6 +62,15 @@ fn kind(v: &Value) -> String {
     }
 }
 
+/// An item of a list that takes numbers and words (`[0.5, 2.0, "end"]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum NumberOrWord {
+    /// A number.
+    Number(f64),
+    /// One of the words the list takes.
+    Word(&'static str),
+}
+
 /// One table of a scenario, being read.
 pub(crate) struct Section<'a> {
     path: String,
@@ -288,6 +297,41 @@ impl<'a> Section<'a> {
             }
         }
         Ok(out)
+    }
+
+    /// True if the file gives `k` here as a table (the other forms of a key that takes either
+    /// a switch or a table are read with [`Section::boolean`]).
+    pub fn is_table(&self, k: &str) -> bool {
+        matches!(self.table.get(k), Some(Value::Table(_)))
+    }
+
+    /// A list of `1..=max` items, each a number or one of `words`; `None` when absent.
+    pub fn numbers_or_words(
+        &self,
+        k: &str,
+        words: &[&'static str],
+        max: usize,
+    ) -> Read<Option<Vec<NumberOrWord>>> {
+        let key = self.key(k);
+        let Some(v) = self.raw(k) else { return Ok(None) };
+        let names = words.iter().map(|w| format!("\"{w}\"")).collect::<Vec<_>>().join(", ");
+        let what = format!("must be an array of numbers or {names}");
+        let Value::Array(items) = v else { return bad(&key, format!("{what}, got {}", kind(v))) };
+        if items.is_empty() || items.len() > max {
+            return bad(&key, format!("must have between 1 and {max} items, got {}", items.len()));
+        }
+        let item = |v: &Value| match v {
+            Value::Float(f) => {
+                number_in(&key, *f, Check::Within(-1e300, 1e300), "").map(|()| NumberOrWord::Number(*f))
+            }
+            Value::Integer(i) => Ok(NumberOrWord::Number(*i as f64)),
+            Value::String(s) => match words.iter().find(|w| **w == s.as_str()) {
+                Some(w) => Ok(NumberOrWord::Word(w)),
+                None => bad(&key, format!("{what}, got {s:?} in it")),
+            },
+            other => bad(&key, format!("{what}, got {} in it", kind(other))),
+        };
+        items.iter().map(item).collect::<Read<Vec<_>>>().map(Some)
     }
 
     /// The sub-table `k`, if the file gives it.

@@ -159,7 +159,7 @@ impl Scenario {
             read::nozzle(&root.table_or_empty("nozzle")?, &source.base, &targets, simulation.duration)?;
         let domain =
             read::domain(root.table("domain")?.as_ref(), || default_domain(&nozzle, &targets, &obstacles))?;
-        let output = read::output(&root.table_or_empty("output")?)?;
+        let output = read::output(&root.table_or_empty("output")?, process.preset, simulation.duration)?;
         root.finish("a scenario")?;
         Ok(Scenario {
             source: source.clone(),
@@ -248,7 +248,9 @@ fn default_domain(
     let target_reach = |t: &TargetParams| -> (Vec<[f64; 3]>, f64) {
         match &t.shape {
             TargetShape::Rectangle { center, size, .. } => (vec![*center], size[0].hypot(size[1]) / 2.0),
-            TargetShape::Cylinder { center, radius, length, .. } => (vec![*center], radius.hypot(length / 2.0)),
+            TargetShape::Cylinder { center, radius, length, .. } => {
+                (vec![*center], radius.hypot(length / 2.0))
+            }
             TargetShape::Mesh { mesh, .. } => {
                 (mesh.triangles.iter().flat_map(|t| t.corners.map(|c| c.to_array())).collect(), 0.0)
             }

@@ -148,6 +148,20 @@ pub fn raster_pass(spawn_rate: f64) -> Result<Scenario, ScenarioError> {
     Scenario::from_toml(&scene.toml(raster), "reference raster")
 }
 
+/// The reference scene with at least `count` particles in flight (fewer only if the run ends
+/// first): emitted at 5·10⁷ particles/s, so that they are all still on their way to the wall,
+/// for timing what draws or processes a full swarm.
+pub fn in_flight(count: usize) -> Result<spraysim_engine::Simulation, BenchError> {
+    let rate = 5e7;
+    let duration = (2.0 * count as f64 / rate).max(1e-3);
+    let scene = ReferenceScene { spawn_rate: rate, duration, ..ReferenceScene::default() };
+    let mut sim = scene.scenario()?.build()?;
+    while sim.swarm().alive() < count && !sim.is_finished() {
+        sim.step();
+    }
+    Ok(sim)
+}
+
 /// Mean time of one cohesion analysis of a `side × side` heightfield carrying a shotcrete
 /// layer (a noisy mound, over-loaded at its crest), s.
 pub fn time_cohesion(side: usize, repeats: usize) -> f64 {

@@ -5,6 +5,7 @@
 mod emitter;
 mod nozzle;
 mod process;
+mod render;
 mod run;
 mod surfaces;
 
@@ -18,10 +19,11 @@ pub use process::{
 pub(crate) use process::{
     ErosionDefaults, ErosionKind, ImpactDefaults, LayerDefaults, ProcessDefaults, ReboundKind,
 };
+pub use render::{ParticleColoring, RenderCamera, RenderParams, RenderTime, ViewPreset, point_size};
 pub use run::{Colormap, DomainParams, ExportFormat, OutputParams, SimulationParams};
 pub use surfaces::{
-    Edges, MeshParams, MeshSide, ObstacleParams, ObstacleShape, OpeningParams, ShellSide, TargetParams, TargetShape,
-    mean_plane, opening,
+    Edges, MeshParams, MeshSide, ObstacleParams, ObstacleShape, OpeningParams, ShellSide, TargetParams,
+    TargetShape, mean_plane, opening,
 };
 
 pub(crate) mod read {

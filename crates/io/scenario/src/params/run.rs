@@ -1,6 +1,8 @@
 //! `[simulation]`, `[domain]` and `[output]`: time stepping, the box particles live in, and
 //! what a run writes.
 
+use crate::params::Preset;
+use crate::params::render::{RenderParams, read_render};
 use crate::reader::{Check, Read, Section, bad, choices};
 use serde::Serialize;
 use spraysim_engine::motion::{GRAVITY, Integrator};
@@ -122,6 +124,9 @@ pub struct OutputParams {
     pub export_max_cells: u32,
     /// Also write the particles in flight at the end as a point cloud (`particles.ply`).
     pub export_particles: bool,
+    /// 3D views drawn during the run and written with its outputs (`[output] render`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render: Option<RenderParams>,
 }
 
 /// A 3D file format for deposits.
@@ -149,8 +154,8 @@ impl ExportFormat {
     }
 }
 
-/// Reads `[output]`.
-pub(crate) fn read_output(s: &Section<'_>) -> Read<OutputParams> {
+/// Reads `[output]`; `preset` and `duration` (s) are the run's, for the render settings.
+pub(crate) fn read_output(s: &Section<'_>, preset: Preset, duration: f64) -> Read<OutputParams> {
     let p = OutputParams {
         directory: s.string("directory", Some("out"))?,
         colormap: s.choice("colormap", Some(Colormap::Viridis))?,
@@ -160,6 +165,7 @@ pub(crate) fn read_output(s: &Section<'_>) -> Read<OutputParams> {
         export: s.choice_list("export")?,
         export_max_cells: s.integer("export_max_cells", Some(1 << 20), 1, 1 << 24)? as u32,
         export_particles: s.boolean("export_particles", false)?,
+        render: read_render(s, preset, duration)?,
     };
     if p.directory.trim().is_empty() {
         return bad(&s.key("directory"), "must not be empty");

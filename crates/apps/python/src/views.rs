@@ -1,0 +1,160 @@
+//! numpy arrays of a simulation's particles and targets.
+//!
+//! A target's maps are handed out without a copy when asked: the array views the engine's own
+//! storage, which a deposit surface allocates once and writes in place (see
+//! `DepositSurface::thickness`), and its base object keeps the simulation alive.
+//! `Simulation.restore` swaps the engine's state for another; the old one is kept for as long
+//! as an array still views it.
+
+use crate::simulation::PySimulation;
+use numpy::ndarray::{ArrayViewD, IxDyn};
+use numpy::{Element, PyArray1, PyArrayDyn, PyArrayMethods, ToPyArray};
+use pyo3::exceptions::{PyIndexError, PyKeyError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use spraysim::Simulation;
+use spraysim::deposit::{DepositSurface, Layout, Surface};
+use spraysim::world::{Role, Target};
+use std::sync::Arc;
+
+/// The base object of a zero-copy array: keeps the simulation, and the state viewed, alive.
+#[pyclass(module = "spraysim._core", frozen)]
+pub struct ViewOwner {
+    _owner: Py<PySimulation>,
+    _views: Arc<()>,
+}
+
+/// Index of the target named by `target` (a name or an index).
+pub fn target_index(sim: &Simulation, target: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let names = || sim.targets().iter().map(|t| t.name.as_str()).collect::<Vec<_>>().join(", ");
+    if let Ok(i) = target.extract::<usize>() {
+        return if i < sim.targets().len() {
+            Ok(i)
+        } else {
+            Err(PyIndexError::new_err(format!("no target {i}: the targets are {}", names())))
+        };
+    }
+    let name: String = target.extract()?;
+    sim.targets()
+        .iter()
+        .position(|t| t.name == name)
+        .ok_or_else(|| PyKeyError::new_err(format!("no target named {name:?}: the targets are {}", names())))
+}
+
+/// The shape of a target's maps: `[rows, cols]` on a grid (a rectangle, a shell unrolled),
+/// `[triangles]` on a mesh.
+pub fn shape(t: &Target) -> IxDyn {
+    match t.surface.layout() {
+        Layout::Grid { rows, cols, .. } => IxDyn(&[rows, cols]),
+        Layout::Cells { count } => IxDyn(&[count]),
+    }
+}
+
+/// A map of the target `target` (see [`shape`]), viewed (or copied when `copy`).
+pub fn grid<'py, T: Element + Copy>(
+    slf: &Bound<'py, PySimulation>,
+    target: &Bound<'py, PyAny>,
+    copy: bool,
+    data: impl Fn(&Target) -> &[T],
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = slf.py();
+    // Refused (RuntimeError) while another thread runs this simulation.
+    let this = slf.try_borrow()?;
+    let t = &this.held.sim.targets()[target_index(&this.held.sim, target)?];
+    let view = ArrayViewD::from_shape(shape(t), data(t))
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("target {}: {e}", t.name)))?;
+    if copy {
+        return Ok(view.to_pyarray(py).into_any());
+    }
+    let owner = Bound::new(py, ViewOwner { _owner: slf.clone().unbind(), _views: this.held.views.clone() })?;
+    // SAFETY: the storage viewed belongs to the engine state in `this.held`, which lives until
+    // the simulation does (the owner keeps it alive) or, once replaced by `restore`, for as
+    // long as the token cloned into the owner is counted; deposit surfaces allocate their maps
+    // once and write them in place, so the pointer stays valid.
+    let array = unsafe { PyArrayDyn::borrow_from_array(&view, owner.into_any()) };
+    array.readwrite().make_nonwriteable();
+    Ok(array.into_any())
+}
+
+/// The depth eroded per cell of a target, coating and substrate together, a copy, or None.
+pub fn erosion<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let t = &sim.targets()[target_index(sim, target)?];
+    let Some(e) = &t.erosion else { return Ok(None) };
+    let depth: Vec<f64> = (0..e.coating.len()).map(|c| e.eroded(c)).collect();
+    let view = ArrayViewD::from_shape(shape(t), depth.as_slice())
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok(Some(view.to_pyarray(py).into_any()))
+}
+
+fn vec3<'py>(py: Python<'py>, v: glam::DVec3) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, &v.to_array())
+}
+
+/// A target's geometry as a dictionary.
+pub fn target_info<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = &sim.targets()[target_index(sim, target)?];
+    let d = PyDict::new(py);
+    d.set_item("name", &t.name)?;
+    d.set_item("role", if t.role == Role::Substrate { "substrate" } else { "collector" })?;
+    d.set_item("cells", t.surface.thickness().len())?;
+    if let Layout::Grid { rows, cols, cell, .. } = t.surface.layout() {
+        d.set_item("rows", rows)?;
+        d.set_item("cols", cols)?;
+        d.set_item("cell_size", cell)?;
+    }
+    match &t.surface {
+        Surface::Rectangle(r) => {
+            let f = &r.chart;
+            d.set_item("shape", "rectangle")?;
+            d.set_item("size", (2.0 * f.half_width, 2.0 * f.half_height))?;
+            d.set_item("center", vec3(py, f.center))?;
+            d.set_item("normal", vec3(py, f.normal))?;
+            d.set_item("up", vec3(py, f.up))?;
+            d.set_item("right", vec3(py, f.right))?;
+        }
+        Surface::Cylinder(c) => {
+            let s = &c.chart.shell;
+            d.set_item("shape", "cylinder")?;
+            d.set_item("size", (s.radius * (s.angles[1] - s.angles[0]), 2.0 * s.half_length))?;
+            d.set_item("center", vec3(py, s.center))?;
+            d.set_item("axis", vec3(py, s.axis))?;
+            d.set_item("radius", s.radius)?;
+            d.set_item("angles", (s.angles[0].to_degrees(), s.angles[1].to_degrees()))?;
+            d.set_item("side", if c.chart.inside { "inside" } else { "outside" })?;
+        }
+        Surface::Mesh(_) => d.set_item("shape", "mesh")?,
+    }
+    Ok(d)
+}
+
+/// The particles in flight, at the present time, as numpy arrays.
+pub fn particles<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Bound<'py, PyDict>> {
+    use spraysim::particles::flags::ALIVE;
+    let s = sim.swarm();
+    let alive: Vec<usize> = (0..s.len()).filter(|&i| s.flags[i] & ALIVE != 0).collect();
+    let n = alive.len();
+    let (mut pos, mut vel, mut age) =
+        (Vec::with_capacity(3 * n), Vec::with_capacity(3 * n), Vec::with_capacity(n));
+    for &i in &alive {
+        let (x, v, a) = sim.particle_now(i);
+        pos.extend_from_slice(&x.to_array());
+        vel.extend_from_slice(&v.to_array());
+        age.push(a);
+    }
+    let d = PyDict::new(py);
+    d.set_item("position", PyArray1::from_vec(py, pos).reshape([n, 3])?)?;
+    d.set_item("velocity", PyArray1::from_vec(py, vel).reshape([n, 3])?)?;
+    d.set_item("age", PyArray1::from_vec(py, age))?;
+    d.set_item("id", PyArray1::from_vec(py, alive.iter().map(|&i| s.id[i]).collect::<Vec<u32>>()))?;
+    d.set_item("impacts", PyArray1::from_vec(py, alive.iter().map(|&i| s.impacts[i]).collect::<Vec<u16>>()))?;
+    d.set_item("state", PyArray1::from_vec(py, alive.iter().map(|&i| s.flags[i]).collect::<Vec<u8>>()))?;
+    Ok(d)
+}

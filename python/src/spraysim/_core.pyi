@@ -1,0 +1,313 @@
+"""Type stubs of the extension module ``spraysim._core`` (re-exported by ``spraysim``).
+
+SI units throughout (m, s, kg); angles in radians in code (degrees in scenario files).
+"""
+
+import os
+from typing import Any, Callable, Iterable, Literal, Mapping, Optional, Tuple, TypedDict, Union, final, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "ALIVE",
+    "HIT_SUBSTRATE",
+    "RELEASED",
+    "Scenario",
+    "ScenarioError",
+    "Simulation",
+    "Snapshot",
+    "presets",
+    "presets_toml",
+    "run_many",
+    "__version__",
+]
+
+__version__: str
+
+ALIVE: int
+"""Status bit of ``Simulation.particles()["state"]``: the particle is in flight."""
+HIT_SUBSTRATE: int
+"""Status bit: the particle has struck a substrate target at least once."""
+RELEASED: int
+"""Status bit: material released by a cohesive failure, not a particle from the nozzle."""
+
+_ScenarioSource = Union["Scenario", Mapping[str, Any], str, "os.PathLike[str]", None]
+"""A scenario, a dict shaped like the TOML file, a file path, or None (the default scene)."""
+
+class ScenarioError(ValueError):
+    """A scenario was refused: unknown key, wrong type, impossible value.
+
+    The text is the one the ``spraysim`` command prints, e.g.
+    ``--set emitter.spawn_rate=-1.0: `emitter.spawn_rate` must be greater than 0 1/s, got -1``.
+    """
+
+    key: Optional[str]
+    """Dotted key refused (``"emitter.speed"``, ``"target[0].resolution"``); None for a syntax or
+    read error."""
+    location: Optional[str]
+    """Where the value was given: ``file:line``, or ``--set KEY=VALUE`` for an override."""
+    message: str
+    """What is wrong."""
+
+@final
+class Scenario:
+    """A complete, validated, immutable scenario: every default filled in (``docs/scenario.md``
+    lists every key with its unit and default).
+
+    ``Scenario()`` is the built-in default scene (wet-mix shotcrete for 2 s onto a 2 m × 2 m
+    wall from 1 m, with a floor collecting the rebound); ``Scenario(path)`` reads a TOML file,
+    ``Scenario(dict)`` a dict shaped like the file. Equal when they resolve to the same values.
+    """
+
+    def __new__(cls, source: _ScenarioSource = None) -> "Scenario": ...
+    @staticmethod
+    def default() -> "Scenario":
+        """The built-in default scene."""
+    @staticmethod
+    def from_file(path: Union[str, "os.PathLike[str]"]) -> "Scenario":
+        """Reads a TOML scenario file; paths it names are relative to its folder."""
+    @staticmethod
+    def from_toml(text: str, origin: str = "<string>") -> "Scenario":
+        """Parses TOML scenario text; ``origin`` names it in errors."""
+    @staticmethod
+    def from_dict(data: Mapping[str, Any], origin: str = "<dict>") -> "Scenario":
+        """Reads a dict shaped like the TOML file, with the same checks."""
+    def set(self, key: str, value: Any) -> "Scenario":
+        """A new scenario with the dotted ``key`` (``"emitter.spawn_rate"``,
+        ``"target[0].resolution"``, ``"emitter.speed"``) set to ``value`` (number, bool, str,
+        list, dict or numpy array, in the file's units: m, s, kg, degrees). Checked exactly as a
+        file's value; raises :class:`ScenarioError` naming the key."""
+    def set_many(self, overrides: Union[Mapping[str, Any], Iterable[Tuple[str, Any]]]) -> "Scenario":
+        """``set`` for several keys, applied in order."""
+    def assign(self, assignment: str) -> "Scenario":
+        """``set`` from ``"KEY=VALUE"`` text as the command's ``--set`` takes it (the value is
+        TOML, or a bare word taken as a string)."""
+    def get(self, key: str) -> Any:
+        """The resolved value at a dotted key, e.g. ``get("emitter.speed") == [20.0, 30.0]``
+        (m/s). Raises ``KeyError`` for a key the resolved scenario does not hold."""
+    def to_toml(self) -> str:
+        """The scenario as TOML with every value explicit (``scenario.resolved.toml``)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The resolved scenario as a dict shaped like the file."""
+    @property
+    def origin(self) -> str:
+        """Where it came from: a file name, ``"<default scene>"``, ``"<dict>"``, …"""
+    @property
+    def dt(self) -> float:
+        """Time step Δt, s."""
+    @property
+    def duration(self) -> float:
+        """Simulated duration, s."""
+    @property
+    def seed(self) -> int:
+        """Seed of every random stream."""
+    @property
+    def target_names(self) -> list[str]:
+        """The targets' names, in file order."""
+
+@final
+class Snapshot:
+    """A saved state of a :class:`Simulation`; ``Simulation.restore`` continues from it exactly
+    as the original did. Immutable; restore it as often as you like."""
+
+    @property
+    def time(self) -> float:
+        """Simulated time of the saved state, s."""
+    @property
+    def steps_done(self) -> int:
+        """Steps taken up to the saved state."""
+
+class _Particles(TypedDict):
+    """The particles in flight, one row each (``Simulation.particles()``)."""
+
+    position: npt.NDArray[np.float64]
+    """(n, 3) positions, m."""
+    velocity: npt.NDArray[np.float64]
+    """(n, 3) velocities, m/s."""
+    age: npt.NDArray[np.float64]
+    """(n,) time since emission, s."""
+    id: npt.NDArray[np.uint32]
+    """(n,) emission index within the run."""
+    impacts: npt.NDArray[np.uint16]
+    """(n,) impacts so far."""
+    state: npt.NDArray[np.uint8]
+    """(n,) status bits: ``ALIVE | HIT_SUBSTRATE | RELEASED``."""
+
+class _Nozzle(TypedDict):
+    """The nozzle now (``Simulation.nozzle()``)."""
+
+    position: npt.NDArray[np.float64]
+    """(3,) position, m."""
+    axis: npt.NDArray[np.float64]
+    """(3,) unit spray axis."""
+    velocity: npt.NDArray[np.float64]
+    """(3,) velocity along its path, m/s."""
+    spraying: bool
+
+class _Waypoint(TypedDict, total=False):
+    """A waypoint of a nozzle path: ``time`` (s), ``position`` (m), ``axis`` (unit vector),
+    ``spray`` (spray from here to the next waypoint; default True)."""
+
+    time: float
+    position: npt.ArrayLike
+    axis: npt.ArrayLike
+    spray: bool
+
+class _TargetGeometry(TypedDict, total=False):
+    """Keys of ``Simulation.target_info`` that depend on the target's shape."""
+
+    rows: int
+    """Rows of a rectangle's or a shell's map (a mesh has none)."""
+    cols: int
+    """Columns of a rectangle's or a shell's map."""
+    cell_size: Tuple[float, float]
+    """Cell (width along ``right`` or the arc, height along ``up`` or the axis), m."""
+    size: Tuple[float, float]
+    """A rectangle's (width, height), or a shell's unrolled (arc length, length), m."""
+    center: npt.NDArray[np.float64]
+    """A rectangle's centre, or the centre of a shell's axis, m."""
+    normal: npt.NDArray[np.float64]
+    """A rectangle's unit normal, towards the side that receives spray."""
+    up: npt.NDArray[np.float64]
+    """A rectangle's unit vector along which rows grow."""
+    right: npt.NDArray[np.float64]
+    """A rectangle's unit vector ``up × normal`` along which columns grow (the viewer's right,
+    looking at the target from the spray side)."""
+    axis: npt.NDArray[np.float64]
+    """A shell's unit axis, along which rows grow."""
+    radius: float
+    """A shell's radius, m."""
+    angles: Tuple[float, float]
+    """A shell's angular range, degrees."""
+    side: Literal["inside", "outside"]
+    """The side of a shell that receives spray."""
+
+class _TargetInfo(_TargetGeometry):
+    """A target's geometry (``Simulation.target_info``)."""
+
+    name: str
+    role: Literal["substrate", "collector"]
+    shape: Literal["rectangle", "cylinder", "mesh"]
+    cells: int
+    """Cells of its maps (triangles on a mesh)."""
+
+@final
+class Simulation:
+    """A running simulation of a scenario.
+
+    ``threads`` is the number of worker threads (0: one per core); results do not depend on
+    it. ``step`` and ``run`` release the interpreter while they work, in slices of about 10 ms:
+    other Python threads run meanwhile, and Ctrl-C raises ``KeyboardInterrupt`` within a slice,
+    leaving the simulation valid at the step it reached.
+    """
+
+    def __new__(cls, scenario: _ScenarioSource = None, threads: int = 0) -> "Simulation": ...
+    def step(self, n: int = 1) -> None:
+        """Advances by ``n`` time steps Δt (also past the configured duration)."""
+    def run(
+        self,
+        until: Optional[float] = None,
+        progress: Union[bool, Callable[[float, float], Any], None] = None,
+    ) -> None:
+        """Runs until simulated time reaches ``until`` (s; the configured duration when None).
+        ``progress=True`` prints the simulated time to stderr; a callable is called as
+        ``progress(time_s, until_s)`` about every 10 ms."""
+    @property
+    def time(self) -> float:
+        """Simulated time, s."""
+    @property
+    def steps_done(self) -> int: ...
+    @property
+    def total_steps(self) -> int:
+        """Steps the configured duration takes."""
+    @property
+    def dt(self) -> float:
+        """Time step Δt, s."""
+    @property
+    def duration(self) -> float:
+        """Configured duration, s."""
+    @property
+    def is_finished(self) -> bool:
+        """True once the configured duration has been simulated."""
+    threads: int
+    """Worker threads (0: one per core); results do not depend on it."""
+    @property
+    def scenario(self) -> Scenario: ...
+    @property
+    def target_names(self) -> list[str]: ...
+    def emitted(self) -> Tuple[int, float]:
+        """_Particles emitted so far: ``(count, volume in m³)``."""
+    def metrics(self) -> dict[str, Any]:
+        """The results so far, equal to what ``metrics.json`` holds."""
+    def metrics_json(self) -> str:
+        """The exact text ``metrics.json`` would hold now."""
+    def write_outputs(self, directory: Union[str, "os.PathLike[str]", None] = None) -> list[str]:
+        """Writes every output into ``directory`` (the scenario's ``output.directory`` when
+        None) as ``spraysim run -o DIRECTORY`` does, all or nothing; returns the paths."""
+    def snapshot(self) -> Snapshot:
+        """Saves the present state."""
+    def restore(self, snapshot: Snapshot) -> None:
+        """Returns to a saved state; arrays taken earlier with ``copy=False`` keep showing the
+        state they were taken from."""
+    def copy(self) -> "Simulation":
+        """An independent copy that continues exactly as this one would."""
+    def __copy__(self) -> "Simulation": ...
+    def __deepcopy__(self, memo: Any) -> "Simulation": ...
+    def particles(self) -> _Particles:
+        """The particles in flight now, as numpy arrays."""
+    def thickness(self, target: Union[str, int], copy: bool = False) -> npt.NDArray[np.float64]:
+        """Deposited thickness, m. On a rectangle, a (rows, cols) array: row 0 is the target's
+        bottom edge (rows grow along ``up``), columns grow along ``right`` = ``up × normal`` (the
+        viewer's right looking from the spray side): plot with ``origin="lower"``; cells in
+        openings hold 0. On a cylinder shell, the unrolled (rows along the axis, cols around it)
+        map. On a mesh, one value per triangle, in the file's order. ``copy=False``: a read-only
+        view of the simulation's memory (no copy) that shows later steps; ``copy=True``: an
+        independent array."""
+    def hits(self, target: Union[str, int], copy: bool = False) -> npt.NDArray[np.uint32]:
+        """Impacts per cell (stuck or rebounded), laid out as ``thickness``."""
+    def erosion(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
+        """Depth eroded per cell, coating and substrate together, m (a copy), or None without erosion."""
+    def target_info(self, target: Union[str, int]) -> _TargetInfo:
+        """A target's geometry."""
+    def nozzle(self) -> _Nozzle:
+        """The nozzle's pose, velocity and spray state now."""
+    def set_nozzle(
+        self,
+        position: npt.ArrayLike,
+        axis: Optional[npt.ArrayLike] = None,
+        spray: bool = True,
+    ) -> None:
+        """Holds the nozzle at ``position`` (m) spraying along ``axis`` (the present axis when
+        None) from the next step on (closed-loop control)."""
+    def set_nozzle_path(
+        self,
+        waypoints: Iterable[Union[_Waypoint, Mapping[str, Any], Tuple[Any, ...]]],
+        roll: Optional[float] = None,
+    ) -> None:
+        """Replaces the nozzle's path from the next step on: waypoints in absolute simulated
+        time (s, strictly increasing), position interpolated linearly and axis spherically;
+        ``roll`` (rad) turns the aperture about the axis."""
+    def nozzle_waypoints(self) -> list[dict[str, Any]]:
+        """The nozzle's path as waypoint dicts."""
+
+def presets() -> dict[str, dict[str, dict[str, Any]]]:
+    """Each process preset's ``process`` and ``emitter`` sections, by name (``"shotcrete"``,
+    ``"painting"``, ``"blasting"``), in the file's units."""
+
+def presets_toml() -> str:
+    """The presets as TOML with units and sources (``spraysim presets``)."""
+
+@overload
+def run_many(
+    scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[False] = False
+) -> list[dict[str, Any]]:
+    """Runs every scenario to its end in parallel inside Rust on ``threads`` threads (0: one
+    per core), releasing the interpreter. Returns each run's metrics (equal to its
+    ``metrics.json``), in order; with ``maps=True``, ``(metrics, {target: thickness})`` pairs
+    (thickness in m, laid out as ``Simulation.thickness``). Results equal those of sequential
+    runs."""
+@overload
+def run_many(
+    scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[True] = ...
+) -> list[Tuple[dict[str, Any], dict[str, npt.NDArray[np.float64]]]]: ...
