@@ -43,8 +43,8 @@ pub struct HeightField {
     /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
     /// layer's slope is measured (finer, the slope would be the deposit's speckle).
     reach: (usize, usize),
-    /// One bit per cell: its thickness changed since the last `take_changed`.
-    changed: Vec<u64>,
+    /// The cells whose thickness changed since the last `take_changed`.
+    changed: ChangedCells,
     /// Per cell, true where the surface is cut away (an opening); empty when none is.
     hole: Vec<bool>,
 }
@@ -78,7 +78,7 @@ impl HeightField {
             block_cols: cols.div_ceil(BLOCK),
             reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
-            changed: vec![0; (cols * rows).div_ceil(64)],
+            changed: ChangedCells::new(cols * rows),
             hole: Vec::new(),
         }
     }
@@ -139,20 +139,12 @@ impl HeightField {
 
     #[inline]
     fn mark(&mut self, c: usize) {
-        self.changed[c / 64] |= 1 << (c % 64);
+        self.changed.mark(c);
     }
 
     /// The cells whose thickness changed since the last call, ascending.
     pub fn take_changed(&mut self) -> Vec<u32> {
-        let mut out = Vec::new();
-        for (w, word) in self.changed.iter_mut().enumerate() {
-            let mut bits = std::mem::take(word);
-            while bits != 0 {
-                out.push((w * 64) as u32 + bits.trailing_zeros());
-                bits &= bits - 1;
-            }
-        }
-        out
+        self.changed.take()
     }
 
     /// In-face coordinates `(along right, along up)` of a cell's centre, m from the face's centre.
@@ -413,6 +405,36 @@ fn bisect(mut a: f64, mut b: f64, inside: impl Fn(f64) -> bool) -> (f64, f64) {
         }
     }
     (a, b)
+}
+
+/// A set of cells, one bit each: the cells whose thickness changed since the layer stages last
+/// asked, so that slump and cohesion look only there.
+#[derive(Clone, Debug)]
+pub(crate) struct ChangedCells(Vec<u64>);
+
+impl ChangedCells {
+    /// An empty set over `cells` cells.
+    pub(crate) fn new(cells: usize) -> ChangedCells {
+        ChangedCells(vec![0; cells.div_ceil(64)])
+    }
+
+    #[inline]
+    pub(crate) fn mark(&mut self, c: usize) {
+        self.0[c / 64] |= 1 << (c % 64);
+    }
+
+    /// The cells marked, ascending, leaving the set empty.
+    pub(crate) fn take(&mut self) -> Vec<u32> {
+        let mut out = Vec::new();
+        for (w, word) in self.0.iter_mut().enumerate() {
+            let mut bits = std::mem::take(word);
+            while bits != 0 {
+                out.push((w * 64) as u32 + bits.trailing_zeros());
+                bits &= bits - 1;
+            }
+        }
+        out
+    }
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! is exact), a per-vertex thickness for smooth display, and a layer that raises each triangle
 //! along its normal.
 
+use super::heightfield::ChangedCells;
 use super::{DepositSurface, LayerContact, Layout, SurfaceMesh};
 use crate::collision::broad_phase::Grid;
 use crate::collision::{Aabb, Hit, Primitive, Shape, Triangle};
@@ -32,7 +33,7 @@ pub struct MeshSurface {
     corners: Vec<[u32; 3]>,
     thickness: Vec<f64>,
     hits: Vec<u32>,
-    changed: Vec<u64>,
+    changed: ChangedCells,
     max_thickness: f64,
     /// Distance from each centroid to the nearest free edge along the mesh, m.
     edge_distance: Vec<f64>,
@@ -71,7 +72,7 @@ impl MeshSurface {
             corners,
             thickness: vec![0.0; n],
             hits: vec![0; n],
-            changed: vec![0; n.div_ceil(64)],
+            changed: ChangedCells::new(n),
             max_thickness: 0.0,
             index: Grid::default(),
             reach: 0.0,
@@ -97,7 +98,7 @@ impl MeshSurface {
     /// Keeps the bounds of the thickness and the index's reach above the thickest triangle.
     fn raised(&mut self, cell: usize) {
         let t = self.thickness[cell];
-        self.changed[cell / 64] |= 1 << (cell % 64);
+        self.changed.mark(cell);
         if t > self.max_thickness {
             self.max_thickness = t;
             if t > self.reach {
@@ -141,12 +142,10 @@ fn adjacency(triangles: &[Triangle], corners: &[[u32; 3]]) -> Vec<[(u32, f64); 3
             edges.entry((a.min(b), a.max(b))).or_default().push((i as u32, k));
         }
     }
-    let mut across = vec![[(NONE, 0.0); 3]; triangles.len()];
-    for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            across[i][k].1 = t.corners[k].distance(t.corners[(k + 1) % 3]);
-        }
-    }
+    let mut across: Vec<[(u32, f64); 3]> = triangles
+        .iter()
+        .map(|t| std::array::from_fn(|k| (NONE, t.corners[k].distance(t.corners[(k + 1) % 3]))))
+        .collect();
     for sharing in edges.values() {
         if let [(i, ki), (j, kj)] = sharing[..] {
             across[i as usize][ki].0 = j;
@@ -171,8 +170,8 @@ fn edge_distances(triangles: &[Triangle], centroid: &[DVec3], across: &[[(u32, f
     let mut dist = vec![f64::INFINITY; triangles.len()];
     let mut heap = BinaryHeap::new();
     for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            if across[i][k].0 == NONE {
+        for (k, &(other, _)) in across[i].iter().enumerate() {
+            if other == NONE {
                 let d = to_segment(centroid[i], t.corners[k], t.corners[(k + 1) % 3]);
                 dist[i] = dist[i].min(d);
             }
@@ -337,7 +336,7 @@ impl DepositSurface for MeshSurface {
         let c = cell as usize;
         let take = (volume / self.area[c]).min(self.thickness[c]);
         self.thickness[c] -= take;
-        self.changed[c / 64] |= 1 << (c % 64);
+        self.changed.mark(c);
         take * self.area[c]
     }
 
@@ -383,15 +382,7 @@ impl DepositSurface for MeshSurface {
     }
 
     fn take_changed(&mut self) -> Vec<u32> {
-        let mut out = Vec::new();
-        for (w, word) in self.changed.iter_mut().enumerate() {
-            let mut bits = std::mem::take(word);
-            while bits != 0 {
-                out.push((w * 64) as u32 + bits.trailing_zeros());
-                bits &= bits - 1;
-            }
-        }
-        out
+        self.changed.take()
     }
 
     fn layout(&self) -> Layout {

@@ -2,7 +2,7 @@
 
 use super::{Plan, Simulation, State};
 use crate::collision::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
-use crate::config::SimulationConfig;
+use crate::config::{SimulationConfig, TargetConfig};
 use crate::deposit::DepositSurface;
 use crate::events::ImpactLog;
 use crate::particles::{StreamKey, Swarm};
@@ -29,30 +29,7 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
             layer: 0.0,
         }));
         models.push(t.impact.clone());
-        let cells = t.surface.thickness().len();
-        targets.push(Target {
-            name: t.name.clone(),
-            role: t.role,
-            surface: t.surface.clone(),
-            surface_id,
-            pieces: count,
-            hits: 0,
-            stuck: Default::default(),
-            loose: Default::default(),
-            trapped: Default::default(),
-            at_risk: false,
-            delivered: Default::default(),
-            stuck_back: Default::default(),
-            received: Default::default(),
-            received_back: 0.0,
-            detached: Default::default(),
-            failure_mask: vec![0; cells],
-            erosion: t.erosion.as_ref().map(|e| ErosionMaps {
-                coating: vec![e.coating; cells],
-                substrate: vec![0.0; cells],
-                initial_coating: e.coating,
-            }),
-        });
+        targets.push(new_target(t, surface_id, count));
     }
     let mut obstacles = Vec::new();
     for (i, o) in c.obstacles.iter().enumerate() {
@@ -95,4 +72,32 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
         impact_log: (c.impact_log > 0.0).then(|| ImpactLog::new(c.impact_log, c.seed)),
     };
     Simulation { config, plan, state, pool: None, lazy_flight: true }
+}
+
+/// A target's record at time 0: its surface bare (or as configured), nothing struck yet.
+fn new_target(t: &TargetConfig, surface_id: SurfaceId, pieces: u32) -> Target {
+    let cells = t.surface.thickness().len();
+    Target {
+        name: t.name.clone(),
+        role: t.role,
+        surface: t.surface.clone(),
+        surface_id,
+        pieces,
+        hits: 0,
+        stuck: Default::default(),
+        loose: Default::default(),
+        trapped: Default::default(),
+        at_risk: false,
+        delivered: Default::default(),
+        stuck_back: Default::default(),
+        received: Default::default(),
+        received_back: 0.0,
+        detached: Default::default(),
+        failure_mask: vec![0; cells],
+        erosion: t.erosion.as_ref().map(|e| ErosionMaps {
+            coating: vec![e.coating; cells],
+            substrate: vec![0.0; cells],
+            initial_coating: e.coating,
+        }),
+    }
 }

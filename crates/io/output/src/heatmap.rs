@@ -226,9 +226,20 @@ pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, 
         }
     }
 
-    // Colour bar with five ticks, its label above it.
-    let bx = x0 + w + margin;
-    draw_text(&mut img, bx as i64, (margin + title_h) as i64, s, &scale.label);
+    draw_text(&mut img, (x0 + w + margin) as i64, (margin + title_h) as i64, s, &scale.label);
+    draw_color_bar(&mut img, (x0 + w + margin, y0, bar_w, h), s, map, &labels);
+    img
+}
+
+/// A vertical colour bar at `(x, y)`, `bar_w` × `h` px, with five ticks labelled `labels`
+/// from the bottom up; `s` is the text scale.
+fn draw_color_bar(
+    img: &mut RgbImage,
+    (bx, y0, bar_w, h): (usize, usize, usize, usize),
+    s: i64,
+    map: Colormap,
+    labels: &[String],
+) {
     for y in 0..h {
         let px = color(map, 1.0 - y as f64 / (h - 1).max(1) as f64);
         for x in 0..bar_w {
@@ -241,7 +252,6 @@ pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, 
             img.put_pixel((bx + x) as u32, y as u32, BLACK);
         }
         let ty = (y as i64 - 4 * s).clamp(y0 as i64, (y0 + h) as i64 - 8 * s);
-        draw_text(&mut img, (bx + bar_w + 6 * s as usize) as i64, ty, s, label);
+        draw_text(img, (bx + bar_w + 6 * s as usize) as i64, ty, s, label);
     }
-    img
 }

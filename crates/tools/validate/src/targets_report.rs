@@ -9,7 +9,7 @@ pub(super) fn curved_section(w: &mut Writer, particles: f64, threads: usize) {
     w.section(
         "Deposition on curved targets",
         &format!(
-            "A point nozzle sprays {particles:.0} particles uniformly over the solid angle Ω of a 40° cone, with no \
+            "A point source puts t = V cos γ / (Ω ρ²) on a surface element seen at distance ρ with incidence γ. A point nozzle sprays {particles:.0} particles uniformly over the solid angle Ω of a cone of 40° half-angle, with no \
              gravity and no rebound. (a) From the axis of a cylinder shell of radius R = 0.5 m seen from inside \
              (`shape = \"cylinder\"`, 360 × 160 cells), a ray at ψ from the plane across the axis meets the shell \
              at ρ = R / cos ψ with incidence ψ, so the unrolled map must follow t = V cos³ψ / (Ω R²). (b) From the \
@@ -31,8 +31,8 @@ pub(super) fn curved_section(w: &mut Writer, particles: f64, threads: usize) {
             rows.push(vec![
                 (*name).to_string(),
                 format!("{a:.0}"),
-                format!("{:.4}", s * 1e6),
-                format!("{:.4}", c * 1e6),
+                format!("{:.1}", s * 1e6),
+                format!("{:.1}", c * 1e6),
                 format!("{:+.2}", 100.0 * (s / c - 1.0)),
             ]);
         }
@@ -66,7 +66,7 @@ fn verdict(w: &mut Writer, name: &str, r: &CurvedLaw) {
     let dof = r.angles.len();
     let limit = chi2_limit(dof);
     w.verdict(
-        &format!("cos³ law on a {name}"),
+        &format!("point-source law t = V cos γ / (Ω ρ²) on a {name}"),
         format!("χ² = {:.1} over {dof} rings; volume error {:.1e}", r.chi2, r.volume_error),
         format!("χ² < {limit:.1}; |volume error| < 1e-9"),
         r.chi2 < limit && r.volume_error.abs() < 1e-9,

@@ -89,7 +89,7 @@ fn the_deposit_shows_its_colours_where_the_spray_struck_and_the_background_elsew
     // there. Vertex colours are means of the cells around each vertex, so the layer is judged by
     // its mean over a few cells rather than by its one (noisy) cell.
     let centre = DVec3::new(0.0, 0.0, 1.0);
-    let t = wall.mean_thickness(wall.cell_at(centre), 0.02);
+    let t = wall.mean_thickness(wall.cell_at(0, centre), 0.02);
     let c = pixel(&img, cam.project(centre - DVec3::X * t, W, H).expect("visible"));
     let (distance, level) = on_scale(c);
     assert!(distance <= 12, "{c:?} is a colour of the scale");
