@@ -428,27 +428,33 @@ fn print_summary(m: &Metrics, wall: f64) -> Result<()> {
         m.failures.ran_off.volume
     );
     let layered: Vec<_> = m.targets.iter().filter(|t| t.layer_volume > 0.0).collect();
+    // The share within the tolerance band, where a target gives one.
+    let spec = layered.iter().any(|t| t.thickness.in_tolerance.is_some());
     if !layered.is_empty() {
         say!(
-            "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}",
+            "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}{}",
             "target",
             "hits",
             "mean [mm]",
             "max [mm]",
             "CV",
-            "covered"
+            "covered",
+            if spec { format!("{:>11}", "in spec") } else { String::new() }
         );
     }
     for t in layered {
         let th = &t.thickness;
+        let in_spec =
+            th.in_tolerance.map_or_else(|| format!("{:>11}", "—"), |f| format!("{:>10.1}%", 100.0 * f));
         say!(
-            "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%",
+            "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%{}",
             t.name,
             t.hits,
             th.mean * 1e3,
             th.max * 1e3,
             th.cv,
-            100.0 * th.covered_fraction
+            100.0 * th.covered_fraction,
+            if spec { in_spec } else { String::new() }
         );
     }
     print_erosion(m)
