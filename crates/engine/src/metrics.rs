@@ -154,9 +154,14 @@ impl ThicknessStats {
             if area > 0.0 { cells.iter().filter(|c| keep(c.0)).map(|c| c.1).sum::<f64>() / area } else { 0.0 }
         };
         let mean = if area > 0.0 { cells.iter().map(|(x, a)| x * a).sum::<f64>() / area } else { 0.0 };
-        let var = if area > 0.0 { cells.iter().map(|(x, a)| (x - mean).powi(2) * a).sum::<f64>() / area } else { 0.0 };
+        let var = if area > 0.0 {
+            cells.iter().map(|(x, a)| (x - mean).powi(2) * a).sum::<f64>() / area
+        } else {
+            0.0
+        };
         let std_dev = var.sqrt();
-        let (min, max) = cells.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| (l.min(c.0), h.max(c.0)));
+        let (min, max) =
+            cells.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| (l.min(c.0), h.max(c.0)));
         ThicknessStats {
             mean,
             std_dev,
@@ -362,7 +367,11 @@ impl Simulation {
             },
             transfer_efficiency: ratio(on_substrate, tally.emitted.volume),
             fates,
-            targets: targets.iter().zip(&self.config().targets).map(|(t, c)| self.target_metrics(t, c)).collect(),
+            targets: targets
+                .iter()
+                .zip(&self.config().targets)
+                .map(|(t, c)| self.target_metrics(t, c))
+                .collect(),
             obstacles: obstacles
                 .iter()
                 .map(|o| ObstacleMetrics {
@@ -393,7 +402,9 @@ impl Simulation {
         let share = |keep: &dyn Fn(usize) -> bool| {
             (0..count).filter(|&k| keep(k as usize)).map(|k| s.cell_area(k)).sum::<f64>() / area
         };
-        let mean = |value: &dyn Fn(usize) -> f64| (0..count).map(|k| value(k as usize) * s.cell_area(k)).sum::<f64>() / area;
+        let mean = |value: &dyn Fn(usize) -> f64| {
+            (0..count).map(|k| value(k as usize) * s.cell_area(k)).sum::<f64>() / area
+        };
         let erosion = t.erosion.as_ref().map(|e| ErosionStats {
             mean_depth: mean(&|k| e.eroded(k)),
             max_depth: (0..e.coating.len()).map(|k| e.eroded(k)).fold(0.0, f64::max),

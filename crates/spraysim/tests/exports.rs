@@ -52,7 +52,11 @@ fn read_ply(path: &Path) -> Ply {
     let (lines, mut at) = header_lines(&b, "end_header");
     assert!(lines.iter().any(|l| l == "format binary_little_endian 1.0"));
     let count = |what: &str| -> usize {
-        lines.iter().find_map(|l| l.strip_prefix(&format!("element {what} "))).and_then(|n| n.parse().ok()).expect("count")
+        lines
+            .iter()
+            .find_map(|l| l.strip_prefix(&format!("element {what} ")))
+            .and_then(|n| n.parse().ok())
+            .expect("count")
     };
     let (nv, nf) = (count("vertex"), count("face"));
     let f32_at = |b: &[u8], i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
@@ -74,10 +78,13 @@ fn read_ply(path: &Path) -> Ply {
 /// The `thickness` cell data of a legacy binary VTK polydata (big-endian floats).
 fn read_vtk_cell_thickness(path: &Path) -> Vec<f32> {
     let b = std::fs::read(path).expect("vtk");
-    let text_until = |from: usize, key: &[u8]| from + b[from..].windows(key.len()).position(|w| w == key).expect("section");
+    let text_until = |from: usize, key: &[u8]| {
+        from + b[from..].windows(key.len()).position(|w| w == key).expect("section")
+    };
     let cells = text_until(0, b"CELL_DATA ");
     let line_end = |i: usize| i + b[i..].iter().position(|&c| c == b'\n').expect("line");
-    let n: usize = std::str::from_utf8(&b[cells + 10..line_end(cells)]).expect("ascii").trim().parse().expect("count");
+    let n: usize =
+        std::str::from_utf8(&b[cells + 10..line_end(cells)]).expect("ascii").trim().parse().expect("count");
     let scalars = text_until(cells, b"SCALARS thickness float 1\nLOOKUP_TABLE default\n");
     let start = line_end(line_end(scalars) + 1) + 1;
     b[start..start + 4 * n].chunks_exact(4).map(|c| f32::from_be_bytes([c[0], c[1], c[2], c[3]])).collect()
@@ -95,13 +102,17 @@ fn read_glb_thickness(path: &Path) -> Vec<f32> {
     let bin_at = 20 + json_len;
     assert_eq!(&b[bin_at + 4..bin_at + 8], b"BIN\0");
     let bin = &b[bin_at + 8..bin_at + 8 + u32_at(bin_at)];
-    let accessor = json["meshes"][0]["primitives"][0]["attributes"]["_THICKNESS"].as_u64().expect("attribute") as usize;
+    let accessor =
+        json["meshes"][0]["primitives"][0]["attributes"]["_THICKNESS"].as_u64().expect("attribute") as usize;
     let acc = &json["accessors"][accessor];
     assert_eq!(acc["componentType"], 5126, "float");
     let view = &json["bufferViews"][acc["bufferView"].as_u64().expect("view") as usize];
     let offset = view["byteOffset"].as_u64().unwrap_or(0) as usize;
     let count = acc["count"].as_u64().expect("count") as usize;
-    bin[offset..offset + 4 * count].chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
+    bin[offset..offset + 4 * count]
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
 }
 
 #[test]
@@ -146,15 +157,23 @@ fn exported_meshes_carry_the_thickness_of_the_maps() {
     assert_eq!(glb.len(), 41 * 31);
     for vr in 0..=30usize {
         for vc in 0..=40usize {
-            let around: Vec<f64> = [(vr.wrapping_sub(1), vc.wrapping_sub(1)), (vr.wrapping_sub(1), vc), (vr, vc.wrapping_sub(1)), (vr, vc)]
-                .iter()
-                .filter(|&&(r, c)| r < 30 && c < 40)
-                .map(|&(r, c)| f64::from(map[r * 40 + c]))
-                .collect();
+            let around: Vec<f64> = [
+                (vr.wrapping_sub(1), vc.wrapping_sub(1)),
+                (vr.wrapping_sub(1), vc),
+                (vr, vc.wrapping_sub(1)),
+                (vr, vc),
+            ]
+            .iter()
+            .filter(|&&(r, c)| r < 30 && c < 40)
+            .map(|&(r, c)| f64::from(map[r * 40 + c]))
+            .collect();
             let mean = around.iter().sum::<f64>() / around.len() as f64;
             let v = vr * 41 + vc;
             for (format, got) in [("glb", glb[v]), ("ply", ply.vertex_thickness[v])] {
-                assert!((f64::from(got) - mean).abs() <= 1e-6 * mean.max(1e-9), "{format} vertex {v}: {got} vs {mean}");
+                assert!(
+                    (f64::from(got) - mean).abs() <= 1e-6 * mean.max(1e-9),
+                    "{format} vertex {v}: {got} vs {mean}"
+                );
             }
         }
     }

@@ -20,7 +20,6 @@ fn the_cos3_law_holds_on_a_triangulated_sphere_section() {
     assert!(r.volume_error.abs() < 1e-9, "{}", r.volume_error);
 }
 
-
 use glam::DVec3;
 use spraysim::Scenario;
 use spraysim::deposit::{DepositSurface, Surface};
@@ -99,7 +98,8 @@ fn a_flat_mesh_and_the_same_rectangle_collect_the_same_layer() {
     for j in 0..50 {
         for i in 0..50 {
             // The rectangle's columns grow along right = up × normal = y × z = +x, rows along +y.
-            let cell = rs.field.cell_at(-0.5 + (i as f64 + 0.5) / 50.0, -0.5 + (j as f64 + 0.5) / 50.0) as usize;
+            let cell =
+                rs.field.cell_at(-0.5 + (i as f64 + 0.5) / 50.0, -0.5 + (j as f64 + 0.5) / 50.0) as usize;
             let square = 0.5 * (tm[2 * (j * 50 + i)] + tm[2 * (j * 50 + i) + 1]);
             worst = worst.max((square - tr[cell]).abs() / one);
             moved += (square - tr[cell]).abs() / one;
@@ -107,7 +107,10 @@ fn a_flat_mesh_and_the_same_rectangle_collect_the_same_layer() {
     }
     // A particle striking a shared edge (most of them near the nozzle's axis, over a corner
     // of four squares) may go to either side: a handful of particles of 2 × 10⁵.
-    assert!(worst <= 10.0 && moved <= 1e-3 * m.emitted.count as f64, "worst square {worst}, moved {moved} particles");
+    assert!(
+        worst <= 10.0 && moved <= 1e-3 * m.emitted.count as f64,
+        "worst square {worst}, moved {moved} particles"
+    );
     // Statistics: the same mean, and within sampling noise the same spread and coverage.
     let (sm, sr) = (&m.targets[0].thickness, &r.targets[0].thickness);
     assert!((sm.mean - sr.mean).abs() <= 1e-9 * sr.mean, "{sm:?} vs {sr:?}");
@@ -153,14 +156,20 @@ fn material_passes_through_an_opening_and_lands_behind_it() {
     let (wall, behind) = (&sim.targets()[0], &sim.targets()[1]);
     // The 10 cm window passes the core of the jet; the wall keeps the rest, none of it in
     // the window's cells.
-    assert!(behind.stuck.volume > 0.2 * m.emitted.volume && wall.stuck.volume > 0.2 * m.emitted.volume, "{m:?}");
+    assert!(
+        behind.stuck.volume > 0.2 * m.emitted.volume && wall.stuck.volume > 0.2 * m.emitted.volume,
+        "{m:?}"
+    );
     let s = &wall.surface;
     let holes: Vec<u32> = (0..s.thickness().len() as u32).filter(|&c| s.cell_area(c) == 0.0).collect();
     assert_eq!(holes.len(), 25, "5 × 5 cells of 2 cm lie in the window");
     assert!(holes.iter().all(|&c| s.thickness()[c as usize] == 0.0));
     // Behind the wall, only the window's shadow: a spot about the window's size.
     let t = behind.surface.thickness();
-    let far = (0..t.len() as u32).filter(|&c| t[c as usize] > 0.0).map(|c| behind.surface.point_above(c, 0.0)).fold(0.0_f64, |a, p| a.max((p - DVec3::new(0.5, 0.0, 1.0)).length()));
+    let far = (0..t.len() as u32)
+        .filter(|&c| t[c as usize] > 0.0)
+        .map(|c| behind.surface.point_above(c, 0.0))
+        .fold(0.0_f64, |a, p| a.max((p - DVec3::new(0.5, 0.0, 1.0)).length()));
     assert!(far < 0.1 * 1.0 / 0.5 + 0.03, "deposit reaches {far} m from the window's axis");
     let b = &m.volume_balance;
     assert!(b.residual.abs() <= 1e-6 * b.emitted, "{b:?}");
@@ -220,7 +229,11 @@ fn a_thick_layer_in_a_shaft_slumps_to_the_wall_limit_around_the_curve() {
     // went downwards, nearly all of it over the bottom edge (the free sides pass a little
     // diagonally).
     let a = 2500.0 / (2300.0 * 9.81);
-    assert!(s.thickness().iter().all(|&t| t >= 0.99 * a * (1.0 - 1e-9) && t <= 1.01 * a), "{:?}", &s.thickness()[..5]);
+    assert!(
+        s.thickness().iter().all(|&t| t >= 0.99 * a * (1.0 - 1e-9) && t <= 1.01 * a),
+        "{:?}",
+        &s.thickness()[..5]
+    );
     assert!(r.run_off.iter().all(|o| o.direction.z < -0.5), "{:?}", r.run_off.first());
     let bottom: f64 = r.run_off.iter().filter(|o| o.edge.z < -0.19).map(|o| o.volume).sum();
     assert!(bottom > 0.9 * ran_off, "{bottom} of {ran_off} m³ over the bottom edge");
@@ -240,7 +253,10 @@ fn thickness_statistics_weigh_by_area_report_the_share_in_spec_and_leave_out_the
         s.add_thickness(c, if p.x.abs() < 0.4 && p.y.abs() < 0.4 { 0.01 } else { 0.002 });
     }
     let all = ThicknessStats::of(&s, 1e-3, 0.0, Some([0.005, 0.015]));
-    assert!((all.area - 1.0).abs() < 1e-9 && (all.in_tolerance.expect("band") - 0.64).abs() < 1e-9, "{all:?}");
+    assert!(
+        (all.area - 1.0).abs() < 1e-9 && (all.in_tolerance.expect("band") - 0.64).abs() < 1e-9,
+        "{all:?}"
+    );
     assert!((all.mean - (0.64 * 0.01 + 0.36 * 0.002)).abs() < 1e-12);
     // A 0.1 m margin leaves the 0.8 m square only.
     let inner = ThicknessStats::of(&s, 1e-3, 0.1, Some([0.005, 0.015]));

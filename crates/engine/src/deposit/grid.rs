@@ -257,7 +257,9 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
             None => {
                 let own = self.point_above(cell, 0.0);
                 let mut most = 0.0_f64;
-                self.stencil(cell, &mut |_, centre| most = most.max((own - centre).dot(up) / centre.distance(own)));
+                self.stencil(cell, &mut |_, centre| {
+                    most = most.max((own - centre).dot(up) / centre.distance(own))
+                });
                 most
             }
         }
@@ -320,7 +322,12 @@ fn grid_mesh<C: Chart>(s: &GridSurface<C>, lift: bool, max_cells: usize) -> Surf
     let mut mesh = SurfaceMesh { block: k, ..SurfaceMesh::default() };
     for vr in 0..=mr {
         for vc in 0..=mc {
-            let around = [(vr.wrapping_sub(1), vc.wrapping_sub(1)), (vr.wrapping_sub(1), vc), (vr, vc.wrapping_sub(1)), (vr, vc)];
+            let around = [
+                (vr.wrapping_sub(1), vc.wrapping_sub(1)),
+                (vr.wrapping_sub(1), vc),
+                (vr, vc.wrapping_sub(1)),
+                (vr, vc),
+            ];
             let (total, n) = around
                 .iter()
                 .filter(|&&(br, bc)| br < mr && bc < mc)
@@ -442,7 +449,8 @@ mod openings {
     /// A 1 m square floor of 10 cm cells with a 34 cm window at its centre.
     fn floor() -> RectangleSurface {
         let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
-        RectangleSurface::new(face, 10, 10, 0.15).with_openings(vec![Opening::rectangle((0.0, 0.0), (0.34, 0.34))])
+        RectangleSurface::new(face, 10, 10, 0.15)
+            .with_openings(vec![Opening::rectangle((0.0, 0.0), (0.34, 0.34))])
     }
 
     #[test]

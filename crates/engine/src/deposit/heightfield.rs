@@ -2,6 +2,7 @@
 //! where a path enters the layer.
 
 use super::Chart;
+use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
 
 /// Side of the blocks whose maximum thickness is kept, cells.
@@ -81,6 +82,26 @@ impl HeightField {
             changed: vec![0; (cols * rows).div_ceil(64)],
             hole: Vec::new(),
         }
+    }
+
+    /// Writes what deposition changes (thicknesses, impacts, bounds, changed cells).
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.list(&self.thickness, |e, &x| e.f64(x));
+        e.list(&self.hits, |e, &x| e.u32(x));
+        e.f64(self.max_thickness);
+        e.list(&self.block_max, |e, &x| e.f64(x));
+        e.list(&self.changed, |e, &x| e.u64(x));
+    }
+
+    /// Reads what [`HeightField::save_state`] wrote, over a field of the same size.
+    pub(crate) fn load_state(&mut self, d: &mut Dec<'_>) -> Result<(), StateError> {
+        let n = self.thickness.len();
+        self.thickness = d.list_of(n, "a heightfield's thickness", 8, Dec::f64)?;
+        self.hits = d.list_of(n, "a heightfield's impacts", 4, Dec::u32)?;
+        self.max_thickness = d.f64()?;
+        self.block_max = d.list_of(self.block_max.len(), "a heightfield's blocks", 8, Dec::f64)?;
+        self.changed = d.list_of(self.changed.len(), "a heightfield's changes", 8, Dec::u64)?;
+        Ok(())
     }
 
     /// Marks the cells cut away (one flag per cell): they receive no deposit, count in no mean,
@@ -204,7 +225,8 @@ impl HeightField {
         let takes = |i: isize, j: isize| {
             (0..cols).contains(&(col + i))
                 && (0..rows).contains(&(row + j))
-                && ((i, j) == (0, 0) || !hole.get(((row + j) * cols + col + i) as usize).copied().unwrap_or(false))
+                && ((i, j) == (0, 0)
+                    || !hole.get(((row + j) * cols + col + i) as usize).copied().unwrap_or(false))
         };
         let n = self.splat.iter().filter(|&&(i, j)| takes(i, j)).count();
         let added = volume / (n as f64 * self.cell_area());

@@ -3,6 +3,7 @@
 //! along its normal.
 
 use super::{DepositSurface, LayerContact, Layout, SurfaceMesh};
+use crate::checkpoint::{Dec, Enc, StateError};
 use crate::collision::broad_phase::Grid;
 use crate::collision::{Aabb, Hit, Primitive, Shape, Triangle};
 use glam::DVec3;
@@ -54,7 +55,8 @@ impl MeshSurface {
         let (vertices, corners) = weld(&triangles);
         let across = adjacency(&triangles, &corners);
         let area: Vec<f64> = triangles.iter().map(Triangle::area).collect();
-        let centroid: Vec<DVec3> = triangles.iter().map(|t| (t.corners[0] + t.corners[1] + t.corners[2]) / 3.0).collect();
+        let centroid: Vec<DVec3> =
+            triangles.iter().map(|t| (t.corners[0] + t.corners[1] + t.corners[2]) / 3.0).collect();
         let n = triangles.len();
         let bounds = triangles.iter().filter_map(Triangle::aabb).fold(
             Aabb { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY },
@@ -85,9 +87,37 @@ impl MeshSurface {
         &self.triangles
     }
 
+    /// Writes what deposition changes (thicknesses, impacts, bounds, changed cells, reach).
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.list(&self.thickness, |e, &x| e.f64(x));
+        e.list(&self.hits, |e, &x| e.u32(x));
+        e.list(&self.changed, |e, &x| e.u64(x));
+        e.f64(self.max_thickness);
+        e.f64(self.reach);
+    }
+
+    /// Reads what [`MeshSurface::save_state`] wrote, over a mesh with as many triangles.
+    pub(crate) fn load_state(&mut self, d: &mut Dec<'_>) -> Result<(), StateError> {
+        let n = self.thickness.len();
+        self.thickness = d.list_of(n, "a mesh's thickness", 8, Dec::f64)?;
+        self.hits = d.list_of(n, "a mesh's impacts", 4, Dec::u32)?;
+        self.changed = d.list_of(self.changed.len(), "a mesh's changes", 8, Dec::u64)?;
+        self.max_thickness = d.f64()?;
+        let reach = d.f64()?;
+        if !(reach.is_finite() && reach > 0.0) {
+            return Err(StateError::Mismatch(format!("a mesh's reach is {reach} m")));
+        }
+        // The index is a function of the reach: rebuilt, it is the one saved.
+        if reach != self.reach {
+            self.reindex(reach);
+        }
+        Ok(())
+    }
+
     /// Re-bins the triangles with their boxes grown by `reach` (m) on every side.
     fn reindex(&mut self, reach: f64) {
-        let boxes: Vec<Option<Aabb>> = self.triangles.iter().map(|t| t.aabb().map(|b| b.inflate(reach))).collect();
+        let boxes: Vec<Option<Aabb>> =
+            self.triangles.iter().map(|t| t.aabb().map(|b| b.inflate(reach))).collect();
         self.index = Grid::new(&boxes, self.bounds.inflate(reach));
         self.reach = reach;
     }
@@ -234,7 +264,9 @@ impl DepositSurface for MeshSurface {
     }
 
     fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
-        if self.max_thickness <= 0.0 || !Aabb::from_points(p0, p1).overlaps(&self.bounds.inflate(self.max_thickness)) {
+        if self.max_thickness <= 0.0
+            || !Aabb::from_points(p0, p1).overlaps(&self.bounds.inflate(self.max_thickness))
+        {
             return None;
         }
         let mut best: Option<(u32, f64, DVec3)> = None;
@@ -258,7 +290,12 @@ impl DepositSurface for MeshSurface {
             }
             best.map_or(f64::INFINITY, |(_, s, _)| s)
         });
-        best.map(|(i, s, point)| LayerContact { s, point, normal: self.triangles[i as usize].normal, cell: i })
+        best.map(|(i, s, point)| LayerContact {
+            s,
+            point,
+            normal: self.triangles[i as usize].normal,
+            cell: i,
+        })
     }
 
     #[inline]
@@ -447,7 +484,11 @@ mod tests {
         assert!(seen[1].0 == 3 && (seen[1].1 - 1.0).abs() < 1e-12);
         // Past a free edge the stencil mirrors the centroid: below the bottom edge of 0.
         let mut ghosts = Vec::new();
-        m.stencil(0, &mut |k, c| if k.is_none() { ghosts.push(c) });
+        m.stencil(0, &mut |k, c| {
+            if k.is_none() {
+                ghosts.push(c)
+            }
+        });
         assert_eq!(ghosts.len(), 1);
         assert!(ghosts[0].abs_diff_eq(DVec3::new(2.0 / 3.0, -1.0 / 3.0, 0.0), 1e-12), "{}", ghosts[0]);
         // Every triangle touches the free boundary or lies a centroid away from it.
@@ -460,7 +501,8 @@ mod tests {
         m.deposit(2, 0.05); // 0.1 m on a 0.5 m² triangle
         assert!((m.thickness()[2] - 0.1).abs() < 1e-15 && (m.volume() - 0.05).abs() < 1e-15);
         // A drop onto triangle 2 meets its top 0.1 m up; one onto triangle 0 the bare mesh.
-        let c = m.layer_contact(DVec3::new(1.8, 0.2, 1.0), DVec3::new(1.8, 0.2, -1.0)).expect("the raised top");
+        let c =
+            m.layer_contact(DVec3::new(1.8, 0.2, 1.0), DVec3::new(1.8, 0.2, -1.0)).expect("the raised top");
         assert!((c.point.z - 0.1).abs() < 1e-12 && c.cell == 2 && c.normal == DVec3::Z);
         assert!(m.layer_contact(DVec3::new(0.8, 0.2, 1.0), DVec3::new(0.8, 0.2, -1.0)).is_none());
         // From below (the back), no layer.

@@ -22,7 +22,8 @@ impl Opening {
     /// The area enclosed, m² (the shoelace formula; positive whatever the orientation).
     pub fn area(&self) -> f64 {
         let c = &self.corners;
-        let twice: f64 = (0..c.len()).map(|i| c[i].0 * c[(i + 1) % c.len()].1 - c[(i + 1) % c.len()].0 * c[i].1).sum();
+        let twice: f64 =
+            (0..c.len()).map(|i| c[i].0 * c[(i + 1) % c.len()].1 - c[(i + 1) % c.len()].0 * c[i].1).sum();
         0.5 * twice.abs()
     }
 
@@ -47,7 +48,8 @@ impl Opening {
                 let ((x0, y0), (x1, y1)) = (c[i], c[(i + 1) % c.len()]);
                 let (dx, dy) = (x1 - x0, y1 - y0);
                 let len2 = dx * dx + dy * dy;
-                let f = if len2 > 0.0 { (((u - x0) * dx + (v - y0) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+                let f =
+                    if len2 > 0.0 { (((u - x0) * dx + (v - y0) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
                 (u - x0 - f * dx).hypot(v - y0 - f * dy)
             })
             .fold(f64::INFINITY, f64::min)
@@ -95,7 +97,8 @@ impl<C: Chart> Primitive for Perforated<C> {
     fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
         let mut tau0 = 0.0;
         for _ in 0..MAX_PASSES {
-            let rest = Arc { x0: arc.at(tau0), v0: arc.velocity(tau0), g: arc.g, duration: arc.duration - tau0 };
+            let rest =
+                Arc { x0: arc.at(tau0), v0: arc.velocity(tau0), g: arc.g, duration: arc.duration - tau0 };
             if rest.duration <= 0.0 {
                 return None;
             }
@@ -127,7 +130,8 @@ mod tests {
         assert!(window.contains(0.5, 1.0) && window.contains(0.01, 0.71) && !window.contains(1.01, 1.0));
         assert!((window.distance(0.5, 1.0) - 0.3).abs() < 1e-12);
         // An L-shaped box-out: the notch is outside.
-        let l = Opening { corners: vec![(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)] };
+        let l =
+            Opening { corners: vec![(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)] };
         assert!((l.area() - 3.0).abs() < 1e-12);
         assert!(l.contains(0.5, 1.5) && !l.contains(1.5, 1.5));
     }
@@ -135,12 +139,21 @@ mod tests {
     #[test]
     fn paths_pass_through_an_opening_and_strike_around_it() {
         let face = Face::new(DVec3::ZERO, DVec3::NEG_X, DVec3::Z, [2.0, 2.0]);
-        let p = Perforated { chart: face, shape: Shape::Face(face), openings: vec![Opening::rectangle((0.0, 0.0), (0.5, 0.5))] };
+        let p = Perforated {
+            chart: face,
+            shape: Shape::Face(face),
+            openings: vec![Opening::rectangle((0.0, 0.0), (0.5, 0.5))],
+        };
         let through = p.intersect(DVec3::new(-1.0, 0.1, 0.1), DVec3::new(1.0, 0.1, 0.1));
         assert!(through.is_none(), "the window lets it pass");
         let hit = p.intersect(DVec3::new(-1.0, 0.5, 0.5), DVec3::new(1.0, 0.5, 0.5)).expect("the wall");
         assert!((hit.t - 0.5).abs() < 1e-12);
-        let arc = Arc { x0: DVec3::new(-1.0, 0.1, 0.1), v0: DVec3::new(10.0, 0.0, 0.0), g: DVec3::ZERO, duration: 0.3 };
+        let arc = Arc {
+            x0: DVec3::new(-1.0, 0.1, 0.1),
+            v0: DVec3::new(10.0, 0.0, 0.0),
+            g: DVec3::ZERO,
+            duration: 0.3,
+        };
         assert!(p.intersect_arc(&arc).is_none());
     }
 }

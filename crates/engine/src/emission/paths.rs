@@ -91,7 +91,14 @@ pub fn raster(chart: &impl Chart, r: &RasterPlan, roll: f64) -> NozzlePath {
             PassDirection::Horizontal => (right, up),
             PassDirection::Vertical => (up, right),
         };
-        let circle = Circle { radius: r.circle_radius, frequency: r.circle_frequency, start: r.start_time, first, second, axis: -normal };
+        let circle = Circle {
+            radius: r.circle_radius,
+            frequency: r.circle_frequency,
+            start: r.start_time,
+            first,
+            second,
+            axis: -normal,
+        };
         path.with_circle(circle)
     } else {
         path
@@ -117,7 +124,8 @@ pub fn raster_waypoints(chart: &impl Chart, r: &RasterPlan) -> Vec<Waypoint> {
     };
     let passes = (span / r.step_over + 1e-9).floor() as usize + 1;
     let half = length / 2.0 + r.lead;
-    let at = |a: f64, b: f64| (r.offset[0] + along.0 * a + across.0 * b, r.offset[1] + along.1 * a + across.1 * b);
+    let at =
+        |a: f64, b: f64| (r.offset[0] + along.0 * a + across.0 * b, r.offset[1] + along.1 * a + across.1 * b);
     // Corners of the zig-zag in (u, v), with the spray state of the leg that starts there.
     let mut corners: Vec<((f64, f64), bool)> = Vec::new();
     for k in 0..passes {
@@ -143,7 +151,8 @@ pub fn raster_waypoints(chart: &impl Chart, r: &RasterPlan) -> Vec<Waypoint> {
     let mut out: Vec<Waypoint> = Vec::with_capacity(points.len());
     for (uv, spray) in points {
         let (position, axis) = pose(uv);
-        let time = out.last().map_or(r.start_time, |p: &Waypoint| p.time + p.position.distance(position) / r.speed);
+        let time =
+            out.last().map_or(r.start_time, |p: &Waypoint| p.time + p.position.distance(position) / r.speed);
         out.push(Waypoint { time, position, axis, spray });
     }
     // The path ends, spraying no more, at the last corner.

@@ -37,20 +37,19 @@ impl Deposit {
         let mean = |cells: &[u32], values: &dyn Fn(u32) -> f64| match cells {
             [one] => values(*one),
             _ => {
-                let (sum, area) = cells.iter().fold((0.0, 0.0), |(v, a), &c| (v + values(c) * areas(c), a + areas(c)));
+                let (sum, area) =
+                    cells.iter().fold((0.0, 0.0), |(v, a), &c| (v + values(c) * areas(c), a + areas(c)));
                 if area > 0.0 { sum / area } else { 0.0 }
             }
         };
         let blocks: Vec<Vec<u32>> = mesh.cell.iter().map(|&c| block(c)).collect();
         let face_thickness = blocks.iter().map(|b| mean(b, &|c| thickness[c as usize])).collect();
         let face_hits = blocks.iter().map(|b| b.iter().map(|&c| s.hits()[c as usize]).sum()).collect();
-        let face_erosion = t.erosion.as_ref().map(|e| blocks.iter().map(|b| mean(b, &|c| e.eroded(c as usize))).collect());
+        let face_erosion =
+            t.erosion.as_ref().map(|e| blocks.iter().map(|b| mean(b, &|c| e.eroded(c as usize))).collect());
         let top = thickness.iter().copied().fold(0.0, f64::max);
-        let colors = mesh
-            .thickness
-            .iter()
-            .map(|&v| color(map, if top > 0.0 { v / top } else { 0.0 }).0)
-            .collect();
+        let colors =
+            mesh.thickness.iter().map(|&v| color(map, if top > 0.0 { v / top } else { 0.0 }).0).collect();
         Deposit { mesh, face_thickness, face_hits, face_erosion, colors }
     }
 }
@@ -62,7 +61,9 @@ fn block_cells(layout: &Layout, mesh: &SurfaceMesh, cell: u32) -> Vec<u32> {
         Layout::Grid { rows, cols, .. } if mesh.block > 1 => {
             let k = mesh.block;
             let (r0, c0) = (cell as usize / cols, cell as usize % cols);
-            (r0..(r0 + k).min(rows)).flat_map(|r| (c0..(c0 + k).min(cols)).map(move |c| (r * cols + c) as u32)).collect()
+            (r0..(r0 + k).min(rows))
+                .flat_map(|r| (c0..(c0 + k).min(cols)).map(move |c| (r * cols + c) as u32))
+                .collect()
         }
         _ => vec![cell],
     }
@@ -138,7 +139,12 @@ pub fn vtk(d: &Deposit, name: &str) -> Vec<u8> {
     };
     out.extend(format!("\nCELL_DATA {nt}").into_bytes());
     scalars(&mut out, "thickness", "float", &mut d.face_thickness.iter().map(|&x| (x as f32).to_be_bytes()));
-    scalars(&mut out, "hits", "int", &mut d.face_hits.iter().map(|&x| (x.min(i32::MAX as u32) as i32).to_be_bytes()));
+    scalars(
+        &mut out,
+        "hits",
+        "int",
+        &mut d.face_hits.iter().map(|&x| (x.min(i32::MAX as u32) as i32).to_be_bytes()),
+    );
     if let Some(e) = &d.face_erosion {
         scalars(&mut out, "erosion", "float", &mut e.iter().map(|&x| (x as f32).to_be_bytes()));
     }
@@ -193,13 +199,21 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
             extras: Default::default(),
         })
     };
-    let (lo, hi) = m.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
-    let accessor = |root: &mut gj::Root, view: usize, count: usize, ty: gj::accessor::Type, comp: gj::accessor::ComponentType, normalized: bool, bounds: Option<(DVec3, DVec3)>| {
-        let target = if comp == gj::accessor::ComponentType::U32 && ty == gj::accessor::Type::Scalar && view == idx {
-            gj::buffer::Target::ElementArrayBuffer
-        } else {
-            gj::buffer::Target::ArrayBuffer
-        };
+    let (lo, hi) =
+        m.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
+    let accessor = |root: &mut gj::Root,
+                    view: usize,
+                    count: usize,
+                    ty: gj::accessor::Type,
+                    comp: gj::accessor::ComponentType,
+                    normalized: bool,
+                    bounds: Option<(DVec3, DVec3)>| {
+        let target =
+            if comp == gj::accessor::ComponentType::U32 && ty == gj::accessor::Type::Scalar && view == idx {
+                gj::buffer::Target::ElementArrayBuffer
+            } else {
+                gj::buffer::Target::ArrayBuffer
+            };
         let buffer_view = Some(view_of(root, view, target));
         root.push(gj::Accessor {
             buffer_view,
@@ -222,7 +236,11 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
     let colors = accessor(&mut root, col, n, T::Vec4, C::U8, true, None);
     let thickness = accessor(&mut root, thk, n, T::Scalar, C::F32, false, None);
     let indices = accessor(&mut root, idx, 3 * m.triangles.len(), T::Scalar, C::U32, false, None);
-    let material = root.push(gj::Material { double_sided: true, name: Some(format!("{name} deposit")), ..Default::default() });
+    let material = root.push(gj::Material {
+        double_sided: true,
+        name: Some(format!("{name} deposit")),
+        ..Default::default()
+    });
     let attributes = [
         (gj::mesh::Semantic::Positions, positions),
         (gj::mesh::Semantic::Normals, normals),
@@ -241,9 +259,16 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
         mode: Valid(gj::mesh::Mode::Triangles),
         targets: None,
     };
-    let mesh = root.push(gj::Mesh { extensions: None, extras: Default::default(), name: Some(name.into()), primitives: vec![primitive], weights: None });
+    let mesh = root.push(gj::Mesh {
+        extensions: None,
+        extras: Default::default(),
+        name: Some(name.into()),
+        primitives: vec![primitive],
+        weights: None,
+    });
     let node = root.push(gj::Node { mesh: Some(mesh), name: Some(name.into()), ..Default::default() });
-    let scene = root.push(gj::Scene { extensions: None, extras: Default::default(), name: None, nodes: vec![node] });
+    let scene =
+        root.push(gj::Scene { extensions: None, extras: Default::default(), name: None, nodes: vec![node] });
     root.scene = Some(scene);
     let mut json = root.to_vec().map_err(|e| e.to_string())?;
     while json.len() % 4 != 0 {

@@ -115,7 +115,13 @@ fn axis_ticks(a: &MapAxis) -> Vec<(f64, String)> {
 }
 
 /// Ticks and labels of the map's axes around the data area `(x0, y0, w, h)`.
-fn draw_axes(img: &mut RgbImage, axes: &[MapAxis; 2], ticks: &[Vec<(f64, String)>; 2], area: (usize, usize, usize, usize), s: i64) {
+fn draw_axes(
+    img: &mut RgbImage,
+    axes: &[MapAxis; 2],
+    ticks: &[Vec<(f64, String)>; 2],
+    area: (usize, usize, usize, usize),
+    s: i64,
+) {
     let (x0, y0, w, h) = area;
     let tick = 4 * s as usize;
     for (f, label) in &ticks[0] {
@@ -123,11 +129,18 @@ fn draw_axes(img: &mut RgbImage, axes: &[MapAxis; 2], ticks: &[Vec<(f64, String)
         for dy in 0..tick {
             img.put_pixel(x as u32, (y0 + h + dy) as u32, BLACK);
         }
-        let tx = (x as i64 - (label.len() as i64 * 8 * s) / 2).clamp(x0 as i64 - 8 * s, (x0 + w) as i64 - label.len() as i64 * 8 * s + 8 * s);
+        let tx = (x as i64 - (label.len() as i64 * 8 * s) / 2)
+            .clamp(x0 as i64 - 8 * s, (x0 + w) as i64 - label.len() as i64 * 8 * s + 8 * s);
         draw_text(img, tx, (y0 + h + tick + s as usize) as i64, s, label);
     }
     let label_x = x0 as i64 + (w as i64 - axes[0].label.chars().count() as i64 * 8 * s) / 2;
-    draw_text(img, label_x.max(x0 as i64), (y0 + h + tick + 10 * s as usize + s as usize) as i64, s, axes[0].label);
+    draw_text(
+        img,
+        label_x.max(x0 as i64),
+        (y0 + h + tick + 10 * s as usize + s as usize) as i64,
+        s,
+        axes[0].label,
+    );
     for (f, label) in &ticks[1] {
         let y = y0 + h - 1 - ((h - 1) as f64 * f) as usize;
         for dx in 0..tick {
@@ -167,9 +180,12 @@ pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, 
     let ticks_w = bar_w + 6 * s as usize + label_w;
     // Room for the axes' ticks and labels: numbers left of the map, below it, and the labels.
     let axis_ticks = grid.axes.map(|a| [axis_ticks(&a[0]), axis_ticks(&a[1])]);
-    let left = axis_ticks.as_ref().map_or(0, |t| t[1].iter().map(|l| l.1.len()).max().unwrap_or(0) * 8 * s as usize + 8 * s as usize);
+    let left = axis_ticks
+        .as_ref()
+        .map_or(0, |t| t[1].iter().map(|l| l.1.len()).max().unwrap_or(0) * 8 * s as usize + 8 * s as usize);
     let bottom = if grid.axes.is_some() { 2 * title_h + 4 * s as usize } else { 0 };
-    let width = margin + left + w + margin + ticks_w.max(scale.label.chars().count() * 8 * s as usize) + margin;
+    let width =
+        margin + left + w + margin + ticks_w.max(scale.label.chars().count() * 8 * s as usize) + margin;
     let height = margin + title_h + title_h + h + bottom + margin;
     let mut img = RgbImage::from_pixel(width as u32, height as u32, WHITE);
     draw_text(&mut img, margin as i64, margin as i64, s, title);

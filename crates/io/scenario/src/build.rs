@@ -3,7 +3,9 @@
 use crate::params::*;
 use crate::scenario::Scenario;
 use glam::DVec3;
-use spraysim_engine::collision::{Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle};
+use spraysim_engine::collision::{
+    Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle,
+};
 use spraysim_engine::config::{
     ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
 };
@@ -56,6 +58,14 @@ impl Scenario {
                 "the nozzle's path runs until {end:.3} s, past `simulation.duration` = {duration} s: the last \
                  {:.3} s of it are not simulated (set simulation.duration to at least {end:.3})",
                 end - duration
+            ));
+        }
+        let kvt = self.process().drag * self.emitter().speed[1] * self.simulation().dt;
+        if kvt > 0.1 {
+            out.push(format!(
+                "process.drag × emitter.speed (max) × simulation.dt = {kvt:.3}: each step changes a particle's \
+                 speed by that share of itself, too coarse for drag to be followed accurately (keep it below 0.1 by \
+                 lowering simulation.dt)"
             ));
         }
         let gravity = DVec3::from_array(self.simulation().gravity).normalize_or_zero();
@@ -216,7 +226,16 @@ fn erosion_laws(e: &ErosionParams) -> Option<Laws> {
 
 fn surface(shape: &TargetShape) -> Surface {
     match shape {
-        &TargetShape::Rectangle { center, normal, up, size, resolution, splat_radius, edges, ref openings } => {
+        &TargetShape::Rectangle {
+            center,
+            normal,
+            up,
+            size,
+            resolution,
+            splat_radius,
+            edges,
+            ref openings,
+        } => {
             let face = Face::new(v3(center), v3(normal), v3(up), size);
             let [cols, rows] = resolution.map(|r| r as usize);
             let rect = RectangleSurface::new(face, cols, rows, splat_radius)
@@ -237,11 +256,15 @@ fn surface(shape: &TargetShape) -> Surface {
                 .iter()
                 .map(|&t| match side {
                     MeshSide::Front => t,
-                    MeshSide::Back => Triangle { corners: [t.corners[0], t.corners[2], t.corners[1]], normal: -t.normal },
+                    MeshSide::Back => {
+                        Triangle { corners: [t.corners[0], t.corners[2], t.corners[1]], normal: -t.normal }
+                    }
                 })
                 .collect();
             // A mesh file with no triangle is refused when read.
-            Surface::Mesh(MeshSurface::new(triangles).unwrap_or_else(|e| unreachable!("checked when read: {e}")))
+            Surface::Mesh(
+                MeshSurface::new(triangles).unwrap_or_else(|e| unreachable!("checked when read: {e}")),
+            )
         }
     }
 }

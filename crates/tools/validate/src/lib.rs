@@ -6,8 +6,8 @@
 
 pub mod checks;
 pub mod shotcrete;
-pub mod targets;
 mod shotcrete_report;
+pub mod targets;
 mod targets_report;
 
 use checks::*;

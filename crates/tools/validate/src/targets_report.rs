@@ -20,7 +20,10 @@ pub(super) fn curved_section(w: &mut Writer, particles: f64, threads: usize) {
              volume in each map, Σ t × area, must equal the volume emitted to 10⁻⁹."
         ),
     );
-    let runs = [("cylinder shell", shell_cos3(particles, threads)), ("sphere section (mesh)", sphere_cos3(particles, threads))];
+    let runs = [
+        ("cylinder shell", shell_cos3(particles, threads)),
+        ("sphere section (mesh)", sphere_cos3(particles, threads)),
+    ];
     let mut rows = Vec::new();
     let mut series = Vec::new();
     for (name, r) in &runs {
@@ -36,7 +39,10 @@ pub(super) fn curved_section(w: &mut Writer, particles: f64, threads: usize) {
         series.push(Series::new(format!("{name}: closed form"), um(&r.angles, &r.closed_form), Mark::Line));
         series.push(Series::new(format!("{name}: simulated"), um(&r.angles, &r.simulated), Mark::Points));
     }
-    w.table(&["target", "angle from axis [°]", "simulated [µm]", "closed form [µm]", "difference [%]"], &rows);
+    w.table(
+        &["target", "angle from axis [°]", "simulated [µm]", "closed form [µm]", "difference [%]"],
+        &rows,
+    );
     w.chart(
         "curved_targets",
         Chart {

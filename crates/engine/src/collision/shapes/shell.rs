@@ -43,7 +43,8 @@ impl CylinderShell {
     ) -> Option<CylinderShell> {
         let axis = axis.try_normalize()?;
         let e1 = (reference - axis * reference.dot(axis)).try_normalize()?;
-        let ok = radius > 0.0 && length > 0.0 && angles[0] < angles[1] && angles[1] - angles[0] <= TAU + 1e-12;
+        let ok =
+            radius > 0.0 && length > 0.0 && angles[0] < angles[1] && angles[1] - angles[0] <= TAU + 1e-12;
         ok.then(|| CylinderShell {
             center,
             axis,
@@ -228,7 +229,12 @@ mod tests {
     #[test]
     fn arcs_meet_the_shell_where_segments_do() {
         let s = arch();
-        let arc = Arc { x0: DVec3::new(0.5, 0.2, 0.0), v0: DVec3::new(0.0, 0.0, 9.0), g: DVec3::new(0.0, 0.0, -9.81), duration: 1.0 };
+        let arc = Arc {
+            x0: DVec3::new(0.5, 0.2, 0.0),
+            v0: DVec3::new(0.0, 0.0, 9.0),
+            g: DVec3::new(0.0, 0.0, -9.81),
+            duration: 1.0,
+        };
         let hit = s.intersect_arc(&arc).expect("reaches the crown");
         assert!((hit.point.x.hypot(hit.point.z) - 2.0).abs() < 1e-9 && hit.normal.z < 0.0);
         // Rising 9 m/s against g, it reaches √(4 − 0.25) m after τ with z(τ) = 1.936.

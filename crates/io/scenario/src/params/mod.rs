@@ -20,8 +20,8 @@ pub(crate) use process::{
 };
 pub use run::{Colormap, DomainParams, ExportFormat, OutputParams, SimulationParams};
 pub use surfaces::{
-    Edges, MeshParams, MeshSide, ObstacleParams, ObstacleShape, OpeningParams, ShellSide, TargetParams, TargetShape,
-    mean_plane, opening,
+    Edges, MeshParams, MeshSide, ObstacleParams, ObstacleShape, OpeningParams, ShellSide, TargetParams,
+    TargetShape, mean_plane, opening,
 };
 
 pub(crate) mod read {

@@ -314,11 +314,19 @@ choices!(ObstacleKind {
 });
 
 /// Checks a name: non-empty, file-name safe, unique among `seen`.
+/// Longest name of a target or obstacle, characters.
+pub const MAX_NAME: usize = 64;
+
 fn name(s: &Section<'_>, seen: &mut Vec<String>) -> Read<String> {
     let n = s.string("name", None)?;
     let key = s.key("name");
     if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
         return bad(&key, format!("must be non-empty and use only letters, digits, '-' and '_', got {n:?}"));
+    }
+    if n.len() > MAX_NAME {
+        // The name begins output file names (`NAME_thickness.npy`), which file systems cap at
+        // 255 bytes: refused now rather than after the run.
+        return bad(&key, format!("must be at most {MAX_NAME} characters, got {}", n.len()));
     }
     if seen.contains(&n) {
         return bad(&key, format!("{n:?} is used twice; names must be unique"));
@@ -381,7 +389,8 @@ pub(crate) fn read_target(
 
 /// Heightfield cells `[cols, rows]`, whole numbers in 1–4096.
 fn resolution(s: &Section<'_>, default: [f64; 2]) -> Read<[u32; 2]> {
-    let [cols, rows] = s.numbers("resolution", Some(default), Check::Within(1.0, 4096.0), "cells per side")?;
+    let [cols, rows] =
+        s.numbers("resolution", Some(default), Check::Within(1.0, 4096.0), "cells per side")?;
     if cols.fract() != 0.0 || rows.fract() != 0.0 {
         return bad(&s.key("resolution"), format!("must be whole numbers of cells, got [{cols}, {rows}]"));
     }
@@ -442,7 +451,9 @@ fn read_opening(s: &Section<'_>, size: [f64; 2]) -> Read<OpeningParams> {
     // Some of the opening must lie on the face: a corner on it, or the face's centre in it.
     let (hw, hh) = (size[0] / 2.0, size[1] / 2.0);
     let on_face = polygon.corners.iter().any(|&(u, v)| u.abs() < hw && v.abs() < hh)
-        || [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh), (0.0, 0.0)].iter().any(|&(u, v)| polygon.contains(u, v));
+        || [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh), (0.0, 0.0)]
+            .iter()
+            .any(|&(u, v)| polygon.contains(u, v));
     if !on_face {
         return bad(&s.key("center"), "puts the opening outside the face");
     }
@@ -457,7 +468,9 @@ pub fn opening(o: &OpeningParams) -> spraysim_engine::deposit::Opening {
         OpeningParams::Rectangle { center, size } => {
             Opening::rectangle((center[0], center[1]), (size[0], size[1]))
         }
-        OpeningParams::Polygon { corners } => Opening { corners: corners.iter().map(|c| (c[0], c[1])).collect() },
+        OpeningParams::Polygon { corners } => {
+            Opening { corners: corners.iter().map(|c| (c[0], c[1])).collect() }
+        }
     }
 }
 
@@ -481,7 +494,18 @@ fn read_cylinder(s: &Section<'_>) -> Read<TargetShape> {
     let size = [radius * (angles[1] - angles[0]).to_radians(), length];
     let splat_radius = splat_radius(s, size, resolution)?;
     let edges = s.choice("edges", Some(Edges::Free))?;
-    Ok(TargetShape::Cylinder { center, axis, radius, length, angles, reference, side, resolution, splat_radius, edges })
+    Ok(TargetShape::Cylinder {
+        center,
+        axis,
+        radius,
+        length,
+        angles,
+        reference,
+        side,
+        resolution,
+        splat_radius,
+        edges,
+    })
 }
 
 /// Reads an `[[obstacle]]`; a mesh is read from `base`.
