@@ -53,11 +53,11 @@ impl Drop for Committing {
     }
 }
 
-/// A fault-test hook: when the environment variable [`PAUSE_VARIABLE`] equals `point` (e.g.
-/// `step:40`, `commit:2`, `staged`), says so on stderr and waits, up to 60 s, for an
+/// A fault-test hook: when the environment variable [`PAUSE_VARIABLE`] names `point` (e.g.
+/// `step:40`, `commit:2`, `staged`; several separated by commas), says so on stderr and waits, up to 60 s, for an
 /// interrupt, so that a test can send a signal at exactly this point. Does nothing otherwise.
 pub fn pause_point(point: &str) {
-    if std::env::var(PAUSE_VARIABLE).is_ok_and(|v| v == point) {
+    if std::env::var(PAUSE_VARIABLE).is_ok_and(|v| v.split(',').any(|p| p == point)) {
         let seen = interrupts();
         eprintln!("spraysim: paused at {point}");
         let start = Instant::now();
