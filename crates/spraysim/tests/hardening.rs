@@ -220,11 +220,11 @@ fn issue17_08_binary_stl_with_a_wrong_facet_count_is_refused() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let mut stl = vec![0u8; 80];
     stl.extend_from_slice(&3u32.to_le_bytes()); // says 3 facets…
-    for corners in [[0.0f32, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0]] {
-        stl.extend_from_slice(&[0u8; 12]);
-        corners.iter().for_each(|c| stl.extend_from_slice(&c.to_le_bytes()));
-        stl.extend_from_slice(&[0u8; 2]);
+    stl.extend_from_slice(&[0u8; 12]);
+    for c in [0.0f32, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0] {
+        stl.extend_from_slice(&c.to_le_bytes());
     }
+    stl.extend_from_slice(&[0u8; 2]);
     stl.extend_from_slice(&[7u8; 60]); // …but holds one and some bytes
     std::fs::write(tmp.path().join("m.stl"), &stl).expect("write");
     let text = format!("{WALL}\n[[obstacle]]\nname = \"o\"\nshape = \"mesh\"\nfile = \"m.stl\"\n");

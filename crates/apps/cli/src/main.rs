@@ -243,40 +243,7 @@ fn dispatch(command: Command) -> Result<()> {
             run(&load(scenario.as_deref(), &set)?, output, threads, quiet, checkpoint_every)
         }
         Command::Resume { dir, threads, quiet } => resume(&dir, threads, quiet),
-        Command::Check { scenario, set, resolved } => {
-            let sc = load(Some(&scenario), &set)?;
-            if resolved {
-                let duration = sc.simulation().duration;
-                let ends = match sc.spraying_ends() {
-                    Some(t) if t < duration => {
-                        format!("# Spraying ends at {t:.3} s, before the end of the run at {duration} s.\n")
-                    }
-                    Some(t) => {
-                        format!(
-                            "# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n"
-                        )
-                    }
-                    None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
-                };
-                write_out(&format!("{ends}{}", sc.to_toml()))?;
-            } else {
-                let b = sc.budget();
-                say!(
-                    "{}: valid ({} targets, {} obstacles): {} steps, {:.4e} particles ({:.3e} in flight at most), \
-                     about {} of memory (limit {})",
-                    scenario.display(),
-                    sc.targets().len(),
-                    sc.obstacles().len(),
-                    b.steps,
-                    b.particles,
-                    b.in_flight,
-                    spraysim::scenario::bytes_text(b.memory),
-                    spraysim::scenario::bytes_text(b.limit)
-                );
-                warn_size(&sc);
-            }
-            Ok(())
-        }
+        Command::Check { scenario, set, resolved } => check(&scenario, &set, resolved),
         Command::Bench { spawn_rate, duration, threads, repeats } => {
             let settings =
                 spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats: repeats as usize };
@@ -322,6 +289,39 @@ fn dispatch(command: Command) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Validates a scenario and prints its size, or the scenario resolved.
+fn check(scenario: &Path, set: &[String], resolved: bool) -> Result<()> {
+    let sc = load(Some(scenario), set)?;
+    if resolved {
+        let duration = sc.simulation().duration;
+        let ends = match sc.spraying_ends() {
+            Some(t) if t < duration => {
+                format!("# Spraying ends at {t:.3} s, before the end of the run at {duration} s.\n")
+            }
+            Some(t) => {
+                format!("# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n")
+            }
+            None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
+        };
+        return write_out(&format!("{ends}{}", sc.to_toml()));
+    }
+    let b = sc.budget();
+    say!(
+        "{}: valid ({} targets, {} obstacles): {} steps, {:.4e} particles ({:.3e} in flight at most), \
+         about {} of memory (limit {})",
+        scenario.display(),
+        sc.targets().len(),
+        sc.obstacles().len(),
+        b.steps,
+        b.particles,
+        b.in_flight,
+        spraysim::scenario::bytes_text(b.memory),
+        spraysim::scenario::bytes_text(b.limit)
+    );
+    warn_size(&sc);
+    Ok(())
 }
 
 /// The scenario at `path` (the default scene without one), with the `--set` overrides.
@@ -459,10 +459,10 @@ fn execute(
     let (start, redraw) = (Instant::now(), (sim.total_steps() / 200).max(1));
     while !sim.is_finished() && control::interrupts() == 0 {
         sim.step();
-        if sim.steps_done() % redraw == 0 || sim.is_finished() {
+        if sim.steps_done().is_multiple_of(redraw) || sim.is_finished() {
             show_progress(&bar, &sim, start);
         }
-        if let Some(k) = every.filter(|&k| sim.steps_done() % k == 0 && !sim.is_finished()) {
+        if let Some(k) = every.filter(|&k| sim.steps_done().is_multiple_of(k) && !sim.is_finished()) {
             save(&sim, k)?;
         }
         control::pause_point(&format!("step:{}", sim.steps_done()));

@@ -170,9 +170,9 @@ fn adjacency(triangles: &[Triangle], corners: &[[u32; 3]]) -> Vec<[(u32, f64); 3
         }
     }
     let mut across = vec![[(NONE, 0.0); 3]; triangles.len()];
-    for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            across[i][k].1 = t.corners[k].distance(t.corners[(k + 1) % 3]);
+    for (t, edges) in triangles.iter().zip(across.iter_mut()) {
+        for (k, edge) in edges.iter_mut().enumerate() {
+            edge.1 = t.corners[k].distance(t.corners[(k + 1) % 3]);
         }
     }
     for sharing in edges.values() {
@@ -199,8 +199,8 @@ fn edge_distances(triangles: &[Triangle], centroid: &[DVec3], across: &[[(u32, f
     let mut dist = vec![f64::INFINITY; triangles.len()];
     let mut heap = BinaryHeap::new();
     for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            if across[i][k].0 == NONE {
+        for (k, &(neighbour, _)) in across[i].iter().enumerate() {
+            if neighbour == NONE {
                 let d = to_segment(centroid[i], t.corners[k], t.corners[(k + 1) % 3]);
                 dist[i] = dist[i].min(d);
             }

@@ -166,7 +166,7 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
     let mut chunk = |bin: &mut Vec<u8>, bytes: Vec<u8>| {
         views.push((bin.len(), bytes.len()));
         bin.extend(bytes);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         views.len() - 1
@@ -179,13 +179,7 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
     let idx = chunk(&mut bin, m.triangles.iter().flatten().flat_map(|i| i.to_le_bytes()).collect());
     let mut root = gj::Root::default();
     root.asset.generator = Some("spraysim".into());
-    let buffer = root.push(gj::Buffer {
-        byte_length: gj::validation::USize64::from(bin.len()),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: Default::default(),
-    });
+    let buffer = root.push(glb_buffer(bin.len()));
     let view_of = |root: &mut gj::Root, k: usize, target: gj::buffer::Target| {
         let (offset, length) = views[k];
         root.push(gj::buffer::View {
@@ -236,6 +230,19 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
     let colors = accessor(&mut root, col, n, T::Vec4, C::U8, true, None);
     let thickness = accessor(&mut root, thk, n, T::Scalar, C::F32, false, None);
     let indices = accessor(&mut root, idx, 3 * m.triangles.len(), T::Scalar, C::U32, false, None);
+    add_scene(&mut root, name, [positions, normals, colors, thickness, indices]);
+    let mut json = root.to_vec().map_err(|e| e.to_string())?;
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    Ok(glb_container(json, bin))
+}
+
+/// Adds to `root` a double-sided material, the mesh of one primitive over `accessors`
+/// (positions, normals, colours, thickness, indices), its node and the scene holding it.
+fn add_scene(root: &mut gj::Root, name: &str, accessors: [gj::Index<gj::Accessor>; 5]) {
+    use gj::validation::Checked::Valid;
+    let [positions, normals, colors, thickness, indices] = accessors;
     let material = root.push(gj::Material {
         double_sided: true,
         name: Some(format!("{name} deposit")),
@@ -270,11 +277,22 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
     let scene =
         root.push(gj::Scene { extensions: None, extras: Default::default(), name: None, nodes: vec![node] });
     root.scene = Some(scene);
-    let mut json = root.to_vec().map_err(|e| e.to_string())?;
-    while json.len() % 4 != 0 {
-        json.push(b' ');
+}
+
+/// The GLB's one buffer, of `len` bytes, held in its binary chunk.
+fn glb_buffer(len: usize) -> gj::Buffer {
+    gj::Buffer {
+        byte_length: gj::validation::USize64::from(len),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: Default::default(),
     }
-    // Header, then the JSON chunk and the binary chunk, each with its length and type.
+}
+
+/// The GLB container: header, then the JSON chunk and the binary chunk, each with its length
+/// and type.
+fn glb_container(json: Vec<u8>, bin: Vec<u8>) -> Vec<u8> {
     let total = 12 + 8 + json.len() + 8 + bin.len();
     let mut out = Vec::with_capacity(total);
     out.extend(b"glTF");
@@ -286,5 +304,5 @@ pub fn glb(d: &Deposit, name: &str) -> Result<Vec<u8>, String> {
     out.extend((bin.len() as u32).to_le_bytes());
     out.extend(b"BIN\0");
     out.extend(bin);
-    Ok(out)
+    out
 }
