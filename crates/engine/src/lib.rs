@@ -33,6 +33,7 @@
 //! # Ok::<(), spraysim_engine::SetupError>(())
 //! ```
 
+pub mod checkpoint;
 pub mod collision;
 pub mod config;
 pub mod deposit;

@@ -37,6 +37,22 @@ enum Command {
         /// No progress bar or summary.
         #[arg(short, long)]
         quiet: bool,
+        /// Write a checkpoint of the whole state every this much simulated time (`10s`, `500ms`,
+        /// or seconds) into the output directory, to continue with `spraysim resume DIR`.
+        #[arg(long, value_name = "TIME", value_parser = parse_seconds)]
+        checkpoint_every: Option<f64>,
+    },
+    /// Continue a run from the checkpoint in its output directory; the outputs are those the
+    /// run would have written without the stop, byte for byte.
+    Resume {
+        /// The output directory of the run (holding `checkpoint.spraysim`).
+        dir: PathBuf,
+        /// Worker threads; 0 uses every core. Results do not depend on it.
+        #[arg(short = 'j', long, default_value_t = 0)]
+        threads: usize,
+        /// No progress bar or summary.
+        #[arg(short, long)]
+        quiet: bool,
     },
     /// Validate a scenario without running it; prints the resolved scenario with `--resolved`.
     Check {
@@ -241,35 +257,11 @@ fn one_line(e: &anyhow::Error) -> String {
 
 fn dispatch(command: Command) -> Result<()> {
     match command {
-        Command::Run { scenario, set, output, threads, quiet } => {
-            run(&load(scenario.as_deref(), &set)?, output, threads, quiet)
+        Command::Run { scenario, set, output, threads, quiet, checkpoint_every } => {
+            run(&load(scenario.as_deref(), &set)?, output, threads, quiet, checkpoint_every)
         }
-        Command::Check { scenario, set, resolved } => {
-            let sc = load(Some(&scenario), &set)?;
-            if resolved {
-                let duration = sc.simulation().duration;
-                let ends = match sc.spraying_ends() {
-                    Some(t) if t < duration => {
-                        format!("# Spraying ends at {t:.3} s, before the end of the run at {duration} s.\n")
-                    }
-                    Some(t) => {
-                        format!(
-                            "# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n"
-                        )
-                    }
-                    None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
-                };
-                write_out(&format!("{ends}{}", sc.to_toml()))?;
-            } else {
-                say!(
-                    "{}: valid ({} targets, {} obstacles)",
-                    scenario.display(),
-                    sc.targets().len(),
-                    sc.obstacles().len()
-                );
-            }
-            Ok(())
-        }
+        Command::Resume { dir, threads, quiet } => resume(&dir, threads, quiet),
+        Command::Check { scenario, set, resolved } => check(&scenario, &set, resolved),
         Command::Bench { spawn_rate, duration, threads, repeats } => {
             let settings =
                 spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats: repeats as usize };
@@ -319,6 +311,39 @@ fn dispatch(command: Command) -> Result<()> {
     }
 }
 
+/// Validates a scenario and prints its size, or the scenario resolved.
+fn check(scenario: &Path, set: &[String], resolved: bool) -> Result<()> {
+    let sc = load(Some(scenario), set)?;
+    if resolved {
+        let duration = sc.simulation().duration;
+        let ends = match sc.spraying_ends() {
+            Some(t) if t < duration => {
+                format!("# Spraying ends at {t:.3} s, before the end of the run at {duration} s.\n")
+            }
+            Some(t) => {
+                format!("# Spraying would end at {t:.3} s, after the end of the run at {duration} s.\n")
+            }
+            None => format!("# Spraying goes on until the end of the run at {duration} s.\n"),
+        };
+        return write_out(&format!("{ends}{}", sc.to_toml()));
+    }
+    let b = sc.budget();
+    say!(
+        "{}: valid ({} targets, {} obstacles): {} steps, {:.4e} particles ({:.3e} in flight at most), \
+         about {} of memory (limit {})",
+        scenario.display(),
+        sc.targets().len(),
+        sc.obstacles().len(),
+        b.steps,
+        b.particles,
+        b.in_flight,
+        spraysim::scenario::bytes_text(b.memory),
+        spraysim::scenario::bytes_text(b.limit)
+    );
+    warn_size(&sc);
+    Ok(())
+}
+
 /// The scenario at `path` (the default scene without one), with the `--set` overrides.
 fn load(path: Option<&Path>, set: &[String]) -> Result<Scenario> {
     let mut sc = match path {
@@ -340,7 +365,43 @@ fn writable(dir: &Path) -> Result<()> {
         .with_context(|| format!("output directory {} is not writable", dir.display()))
 }
 
-fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool) -> Result<()> {
+/// `10s`, `500ms` or `2.5` (seconds) as seconds, above 0.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, scale) = match (t.strip_suffix("ms"), t.strip_suffix('s')) {
+        (Some(n), _) => (n, 1e-3),
+        (None, Some(n)) => (n, 1.0),
+        (None, None) => (t, 1.0),
+    };
+    match number.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x * scale),
+        _ => Err(format!("expected a time above 0 such as `10s`, `500ms` or `2.5`, got {text:?}")),
+    }
+}
+
+/// Runs longer than these are worth a word before they start.
+const LONG_STEPS: u64 = 10_000_000;
+const MANY_PARTICLES: f64 = 1e9;
+
+/// Warns of a run whose step or particle count is far beyond the usual.
+fn warn_size(sc: &Scenario) {
+    let b = sc.budget();
+    if b.steps > LONG_STEPS || b.particles > MANY_PARTICLES {
+        eprintln!(
+            "warning: this run takes {} steps (simulation.duration / simulation.dt) and emits {:.3e} particles \
+             (emitter.spawn_rate × simulation.duration): it may take a very long time",
+            b.steps, b.particles
+        );
+    }
+}
+
+fn run(
+    scenario: &Scenario,
+    output: Option<PathBuf>,
+    threads: usize,
+    quiet: bool,
+    checkpoint_every: Option<f64>,
+) -> Result<()> {
     // The resolved scenario written with the outputs names the directory they went to.
     let scenario = &match output {
         Some(dir) => scenario.with("output.directory", dir.display().to_string())?,
@@ -348,11 +409,131 @@ fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool
     };
     let dir = PathBuf::from(&scenario.output().directory);
     writable(&dir)?;
+    warn_size(scenario);
     // Refused or set up before anything runs: a build without 3D views, or no graphics adapter.
-    let mut recorder = render::recorder(scenario)?;
+    let recorder = render::recorder(scenario)?;
     let mut sim = scenario.build()?;
     sim.set_threads(threads)?;
+    let every = checkpoint_every.map(|t| (t / scenario.simulation().dt).round().max(1.0) as u64);
+    // A new run replaces the directory's run: an earlier run's checkpoint no longer applies.
+    spraysim::output::checkpoint::remove_checkpoint(&dir);
+    execute(scenario, sim, &dir, (every, recorder), quiet)
+}
 
+/// Continues the run whose checkpoint is in `dir`.
+fn resume(dir: &Path, threads: usize, quiet: bool) -> Result<()> {
+    use spraysim::output::checkpoint;
+    let ck = checkpoint::read_checkpoint(dir).context("cannot resume")?;
+    let origin = dir.join(checkpoint::CHECKPOINT_FILE).display().to_string();
+    let scenario = Scenario::from_toml(&ck.scenario, &origin)?;
+    writable(dir)?;
+    // Views due before the checkpoint's time are not drawn again.
+    let recorder = render::recorder(&scenario)?;
+    let mut sim = scenario.build()?;
+    sim.restore_state(&ck.state).with_context(|| format!("{origin}: cannot resume"))?;
+    sim.set_threads(threads)?;
+    if !quiet {
+        say!("resuming at t = {:.3} s of {} s", sim.time(), scenario.simulation().duration);
+    }
+    execute(&scenario, sim, dir, ((ck.every_steps > 0).then_some(ck.every_steps), recorder), quiet)
+}
+
+/// Exit status of a run stopped by Ctrl-C (128 + SIGINT).
+const INTERRUPTED: i32 = 130;
+
+/// Counts Ctrl-C presses: the first stops the run at the end of its step, the second aborts
+/// at once, unless files are being moved into place, in which case the run exits as soon as
+/// they are.
+fn handle_interrupts() -> Result<()> {
+    use spraysim::output::control;
+    static SET: std::sync::Once = std::sync::Once::new();
+    let mut result = Ok(());
+    SET.call_once(|| {
+        result = ctrlc::set_handler(|| {
+            if control::interrupt() == 1 {
+                eprintln!("\ninterrupted: stopping at the end of this step to write the outputs so far (Ctrl-C again to abort)");
+            } else if control::try_abort() {
+                eprintln!("\naborted: the output directory holds what it held before");
+                std::process::exit(INTERRUPTED);
+            }
+        });
+    });
+    result.context("cannot watch for Ctrl-C")
+}
+
+/// Steps `sim` to its end or to an interrupt, with checkpoints every `every` steps and the 3D
+/// views `recorder` draws, and writes its outputs, views included, into `dir` as one set.
+fn execute(
+    scenario: &Scenario,
+    mut sim: spraysim::Simulation,
+    dir: &Path,
+    (every, mut recorder): (Option<u64>, render::Recorder),
+    quiet: bool,
+) -> Result<()> {
+    use spraysim::output::{checkpoint, control};
+    handle_interrupts()?;
+    checkpoint::clean_temporary(dir);
+    let save = |sim: &spraysim::Simulation, k: u64| {
+        let ck =
+            checkpoint::Checkpoint { scenario: scenario.to_toml(), every_steps: k, state: sim.save_state() };
+        checkpoint::write_checkpoint(dir, &ck)
+            .with_context(|| format!("writing a checkpoint into {}", dir.display()))
+    };
+    let bar = progress_bar(&sim, quiet);
+    let (start, redraw) = (Instant::now(), (sim.total_steps() / 200).max(1));
+    recorder.observe(&sim)?;
+    while !sim.is_finished() && control::interrupts() == 0 {
+        sim.step();
+        recorder.observe(&sim)?;
+        if sim.steps_done().is_multiple_of(redraw) || sim.is_finished() {
+            show_progress(&bar, &sim, start);
+        }
+        if let Some(k) = every.filter(|&k| sim.steps_done().is_multiple_of(k) && !sim.is_finished()) {
+            save(&sim, k)?;
+        }
+        control::pause_point(&format!("step:{}", sim.steps_done()));
+    }
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    let completed = sim.is_finished();
+    if !completed {
+        eprintln!(
+            "interrupted at t = {:.6} s of {} s: writing the outputs so far, marked \"completed\": false",
+            sim.time(),
+            scenario.simulation().duration
+        );
+        if let Some(k) = every {
+            save(&sim, k)?;
+        }
+    }
+    let views = recorder.finish(&sim, quiet)?;
+    let files = spraysim::output::write_outputs_with(&sim, scenario, dir, views)
+        .with_context(|| format!("writing outputs to {}", dir.display()))?;
+    if control::interrupts() >= 2 {
+        // A second Ctrl-C came while the files moved into place: they are, so stop now.
+        std::process::exit(INTERRUPTED);
+    }
+    if completed {
+        checkpoint::remove_checkpoint(dir);
+    }
+    if !quiet {
+        print_summary(&sim.metrics(), wall)?;
+        say!("wrote {} files to {}", files.len(), dir.display());
+    }
+    if !completed {
+        let resume = if every.is_some() {
+            format!("; `spraysim resume {}` continues it", dir.display())
+        } else {
+            String::new()
+        };
+        eprintln!("run interrupted at t = {:.6} s: the outputs hold the run so far{resume}", sim.time());
+        std::io::stdout().flush()?;
+        std::process::exit(INTERRUPTED);
+    }
+    Ok(())
+}
+
+fn progress_bar(sim: &spraysim::Simulation, quiet: bool) -> ProgressBar {
     let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(sim.total_steps()) };
     bar.set_style(
         ProgressStyle::with_template(
@@ -360,41 +541,19 @@ fn run(scenario: &Scenario, output: Option<PathBuf>, threads: usize, quiet: bool
         )
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let start = Instant::now();
-    let redraw = (sim.total_steps() / 200).max(1);
-    recorder.observe(&sim)?;
-    let mut failed = None;
-    sim.run(|s| {
-        if failed.is_none()
-            && let Err(e) = recorder.observe(s)
-        {
-            failed = Some(e);
-        }
-        if s.steps_done() % redraw == 0 || s.is_finished() {
-            let wall = start.elapsed().as_secs_f64().max(1e-9);
-            bar.set_position(s.steps_done());
-            bar.set_message(format!(
-                "{:.3} s, {:.2}× real time, {} in flight",
-                s.time(),
-                s.time() / wall,
-                s.swarm().alive()
-            ));
-        }
-    });
-    bar.finish_and_clear();
-    if let Some(e) = failed {
-        return Err(e);
-    }
-    let wall = start.elapsed().as_secs_f64();
+    bar.set_position(sim.steps_done());
+    bar
+}
 
-    let mut files = spraysim::output::write_outputs(&sim, scenario, &dir)
-        .with_context(|| format!("writing outputs to {}", dir.display()))?;
-    files.extend(recorder.finish(&sim, &dir, quiet)?);
-    if !quiet {
-        print_summary(&sim.metrics(), wall)?;
-        say!("wrote {} files to {}", files.len(), dir.display());
-    }
-    Ok(())
+fn show_progress(bar: &ProgressBar, s: &spraysim::Simulation, start: Instant) {
+    let wall = start.elapsed().as_secs_f64().max(1e-9);
+    bar.set_position(s.steps_done());
+    bar.set_message(format!(
+        "{:.3} s, {:.2}× real time, {} in flight",
+        s.time(),
+        s.time() / wall,
+        s.swarm().alive()
+    ));
 }
 
 fn print_summary(m: &Metrics, wall: f64) -> Result<()> {

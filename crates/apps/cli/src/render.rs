@@ -162,7 +162,7 @@ mod imp {
         }
 
         /// Nothing written.
-        pub fn finish(self, _sim: &spraysim::Simulation, _dir: &Path, _quiet: bool) -> Result<Vec<PathBuf>> {
+        pub fn finish(self, _sim: &spraysim::Simulation, _quiet: bool) -> Result<Vec<(String, Vec<u8>)>> {
             Ok(Vec::new())
         }
     }
@@ -209,7 +209,7 @@ mod imp {
         }
 
         /// Renders the end stills, encodes the animation and writes everything into `dir`.
-        pub fn finish(self, sim: &spraysim::Simulation, dir: &Path, quiet: bool) -> Result<Vec<PathBuf>> {
+        pub fn finish(self, sim: &spraysim::Simulation, quiet: bool) -> Result<Vec<(String, Vec<u8>)>> {
             let Some(r) = self.0 else { return Ok(Vec::new()) };
             let recording = r.finish(sim)?;
             if !quiet {
@@ -217,8 +217,7 @@ mod imp {
                     eprintln!("note: {n}");
                 }
             }
-            spraysim::output::write_all(dir, &recording.files)
-                .with_context(|| format!("writing 3D views to {}", dir.display()))
+            Ok(recording.files)
         }
     }
 
@@ -284,4 +283,4 @@ mod imp {
     }
 }
 
-pub use imp::{bench_line, recorder, render};
+pub use imp::{Recorder, bench_line, recorder, render};

@@ -53,7 +53,7 @@ impl Grid {
             Aabb { min: b.min.min(s.min), max: b.max.max(s.max) }
         });
         let extent = (bounds.max - bounds.min).max(DVec3::splat(MIN_CELL));
-        let cell = (extent.x * extent.y * extent.z / MAX_CELLS).cbrt().max(MIN_CELL);
+        let cell = cell_size(extent);
         let dims = (extent / cell).ceil().as_ivec3().max(IVec3::ONE);
         let last = (dims - 1).as_dvec3();
         let mut grid = Grid {
@@ -316,6 +316,37 @@ impl Grid {
     }
 }
 
+/// Cells along each axis of a grid of cubes of edge `cell` over `extent`, at least one each.
+fn cell_counts(extent: DVec3, cell: f64) -> DVec3 {
+    (extent / cell).ceil().max(DVec3::ONE)
+}
+
+/// The edge of the grid's cubes over `extent` (m, each axis at least [`MIN_CELL`]): the
+/// smallest, from [`MIN_CELL`] up, whose grid has at most [`MAX_CELLS`] cells. An axis thinner
+/// than a cell still takes one, so a thin, wide box needs larger cells than the volume alone
+/// says; the count only falls as the cell grows, so bisection finds it.
+fn cell_size(extent: DVec3) -> f64 {
+    let fits = |cell: f64| {
+        let n = cell_counts(extent, cell);
+        n.x * n.y * n.z <= MAX_CELLS
+    };
+    let guess = (extent.x * extent.y * extent.z / MAX_CELLS).cbrt().max(MIN_CELL);
+    if !guess.is_finite() {
+        // Beyond any scene a scenario accepts; one cell keeps the grid valid.
+        return extent.max_element().min(f64::MAX);
+    }
+    if fits(guess) {
+        return guess;
+    }
+    // A cube as large as the longest axis gives a single cell, which fits.
+    let (mut lo, mut hi) = (guess, extent.max_element());
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) { hi = mid } else { lo = mid }
+    }
+    hi
+}
+
 /// `cells`, laid out over `dims`, dilated by one cell along every axis: each cell set if it or
 /// any of its 26 neighbours is. Separable: one pass along x, then y, then z instead of 27
 /// lookups per cell, each a plain loop over rows so that it runs at memory speed on millions
@@ -348,6 +379,27 @@ fn dilate(cells: &[u8], stride: usize, len: usize) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 17, defect 1: a thin, wide box or a huge one kept the cap on cells.
+    #[test]
+    fn cell_cap_is_honoured_for_thin_wide_and_huge_extents() {
+        for (min, max) in [
+            (DVec3::new(-1e4, -1e4, -0.005), DVec3::new(1e4, 1e4, 0.005)),
+            (DVec3::new(-1e6, -1e6, -1.0), DVec3::new(1e6, 1e6, 1.0)),
+            (DVec3::new(-1e30, -0.005, -1e30), DVec3::new(1e30, 0.005, 1e30)),
+            (DVec3::new(-1e4, -0.001, -0.001), DVec3::new(1e4, 0.001, 0.001)),
+        ] {
+            let b = Aabb { min, max };
+            let grid = Grid::new(&[Some(b)], b);
+            let cells = i64::from(grid.dims.x) * i64::from(grid.dims.y) * i64::from(grid.dims.z);
+            assert!(
+                grid.dims.min_element() >= 1 && cells as f64 <= MAX_CELLS,
+                "{min} … {max}: {}",
+                grid.dims
+            );
+            assert!(!grid.is_clear(min * 0.5, max * 0.5));
+        }
+    }
 
     #[test]
     fn empty_neighbourhoods_match_a_direct_27_cell_check() {

@@ -2,6 +2,7 @@
 //! where a path enters the layer.
 
 use super::Chart;
+use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
 
 /// Side of the blocks whose maximum thickness is kept, cells.
@@ -81,6 +82,26 @@ impl HeightField {
             changed: ChangedCells::new(cols * rows),
             hole: Vec::new(),
         }
+    }
+
+    /// Writes what deposition changes (thicknesses, impacts, bounds, changed cells).
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.list(&self.thickness, |e, &x| e.f64(x));
+        e.list(&self.hits, |e, &x| e.u32(x));
+        e.f64(self.max_thickness);
+        e.list(&self.block_max, |e, &x| e.f64(x));
+        e.list(&self.changed.0, |e, &x| e.u64(x));
+    }
+
+    /// Reads what [`HeightField::save_state`] wrote, over a field of the same size.
+    pub(crate) fn load_state(&mut self, d: &mut Dec<'_>) -> Result<(), StateError> {
+        let n = self.thickness.len();
+        self.thickness = d.list_of(n, "a heightfield's thickness", 8, Dec::f64)?;
+        self.hits = d.list_of(n, "a heightfield's impacts", 4, Dec::u32)?;
+        self.max_thickness = d.f64()?;
+        self.block_max = d.list_of(self.block_max.len(), "a heightfield's blocks", 8, Dec::f64)?;
+        self.changed.0 = d.list_of(self.changed.0.len(), "a heightfield's changes", 8, Dec::u64)?;
+        Ok(())
     }
 
     /// Marks the cells cut away (one flag per cell): they receive no deposit, count in no mean,
@@ -410,7 +431,7 @@ fn bisect(mut a: f64, mut b: f64, inside: impl Fn(f64) -> bool) -> (f64, f64) {
 /// A set of cells, one bit each: the cells whose thickness changed since the layer stages last
 /// asked, so that slump and cohesion look only there.
 #[derive(Clone, Debug)]
-pub(crate) struct ChangedCells(Vec<u64>);
+pub(crate) struct ChangedCells(pub(crate) Vec<u64>);
 
 impl ChangedCells {
     /// An empty set over `cells` cells.

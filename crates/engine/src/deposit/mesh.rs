@@ -4,6 +4,7 @@
 
 use super::heightfield::ChangedCells;
 use super::{DepositSurface, LayerContact, Layout, SurfaceMesh};
+use crate::checkpoint::{Dec, Enc, StateError};
 use crate::collision::broad_phase::Grid;
 use crate::collision::{Aabb, Hit, Primitive, Shape, Triangle};
 use glam::DVec3;
@@ -85,6 +86,33 @@ impl MeshSurface {
     /// The triangles, in cell order.
     pub fn triangles(&self) -> &[Triangle] {
         &self.triangles
+    }
+
+    /// Writes what deposition changes (thicknesses, impacts, bounds, changed cells, reach).
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.list(&self.thickness, |e, &x| e.f64(x));
+        e.list(&self.hits, |e, &x| e.u32(x));
+        e.list(&self.changed.0, |e, &x| e.u64(x));
+        e.f64(self.max_thickness);
+        e.f64(self.reach);
+    }
+
+    /// Reads what [`MeshSurface::save_state`] wrote, over a mesh with as many triangles.
+    pub(crate) fn load_state(&mut self, d: &mut Dec<'_>) -> Result<(), StateError> {
+        let n = self.thickness.len();
+        self.thickness = d.list_of(n, "a mesh's thickness", 8, Dec::f64)?;
+        self.hits = d.list_of(n, "a mesh's impacts", 4, Dec::u32)?;
+        self.changed.0 = d.list_of(self.changed.0.len(), "a mesh's changes", 8, Dec::u64)?;
+        self.max_thickness = d.f64()?;
+        let reach = d.f64()?;
+        if !(reach.is_finite() && reach > 0.0) {
+            return Err(StateError::Mismatch(format!("a mesh's reach is {reach} m")));
+        }
+        // The index is a function of the reach: rebuilt, it is the one saved.
+        if reach != self.reach {
+            self.reindex(reach);
+        }
+        Ok(())
     }
 
     /// Re-bins the triangles with their boxes grown by `reach` (m) on every side.

@@ -281,6 +281,27 @@ surfaces! {
 }
 
 impl Surface {
+    /// Writes the deposit's state (what a run changes), for a checkpoint.
+    pub(crate) fn save_state(&self, e: &mut crate::checkpoint::Enc) {
+        match self {
+            Surface::Rectangle(s) => s.field.save_state(e),
+            Surface::Cylinder(s) => s.field.save_state(e),
+            Surface::Mesh(s) => s.save_state(e),
+        }
+    }
+
+    /// Reads what [`Surface::save_state`] wrote, over the same surface freshly built.
+    pub(crate) fn load_state(
+        &mut self,
+        d: &mut crate::checkpoint::Dec<'_>,
+    ) -> Result<(), crate::checkpoint::StateError> {
+        match self {
+            Surface::Rectangle(s) => s.field.load_state(d),
+            Surface::Cylinder(s) => s.field.load_state(d),
+            Surface::Mesh(s) => s.load_state(d),
+        }
+    }
+
     /// The rectangle, if this surface is one.
     pub fn as_rectangle(&self) -> Option<&RectangleSurface> {
         match self {

@@ -2,6 +2,7 @@
 //! [`NozzlePath`] is a plain value: the caller may replace a running simulation's path between
 //! steps (closed-loop control, learning).
 
+use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
 
 /// A nozzle pose: where particles start and the frame their directions are sampled in.
@@ -109,6 +110,47 @@ impl NozzlePath {
     /// This path with `circle` superposed on its positions.
     pub fn with_circle(self, circle: Circle) -> Self {
         NozzlePath { circle: Some(circle), ..self }
+    }
+
+    /// Writes the path, for a checkpoint (a run may have replaced it).
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.list(&self.waypoints, |e, w| {
+            e.f64(w.time);
+            e.vec3(w.position);
+            e.vec3(w.axis);
+            e.bool(w.spray);
+        });
+        e.f64(self.roll);
+        e.bool(self.circle.is_some());
+        if let Some(c) = &self.circle {
+            e.f64(c.radius);
+            e.f64(c.frequency);
+            e.f64(c.start);
+            e.vec3(c.first);
+            e.vec3(c.second);
+            e.vec3(c.axis);
+        }
+    }
+
+    /// Reads what [`NozzlePath::save_state`] wrote.
+    pub(crate) fn load_state(d: &mut Dec<'_>) -> Result<NozzlePath, StateError> {
+        let waypoints = d.list(57, |d| {
+            Ok(Waypoint { time: d.f64()?, position: d.vec3()?, axis: d.vec3()?, spray: d.bool()? })
+        })?;
+        let roll = d.f64()?;
+        let circle = if d.bool()? {
+            Some(Circle {
+                radius: d.f64()?,
+                frequency: d.f64()?,
+                start: d.f64()?,
+                first: d.vec3()?,
+                second: d.vec3()?,
+                axis: d.vec3()?,
+            })
+        } else {
+            None
+        };
+        Ok(NozzlePath { waypoints, roll, circle })
     }
 
     /// The superposed circle, if any.

@@ -1,6 +1,7 @@
 //! Particle storage: one array per attribute (structure of arrays), so the update stage is a
 //! plain loop over parallel slices.
 
+use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
 
 /// Status bits of a particle.
@@ -120,6 +121,44 @@ impl Swarm {
         self.impacts.push(0);
         self.flags.push(bits);
         self.wake.push(0);
+    }
+
+    /// Writes every particle slot and the released volumes, for a checkpoint.
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.f32(self.volumes.nozzle);
+        e.list(&self.volumes.released, |e, &(id, v)| {
+            e.u32(id);
+            e.f32(v);
+        });
+        e.list(&self.pos, |e, &p| e.vec3(p));
+        e.list(&self.vel, |e, &v| e.vec3(v));
+        e.list(&self.age, |e, &x| e.f32(x));
+        e.list(&self.id, |e, &x| e.u32(x));
+        e.list(&self.impacts, |e, &x| e.u16(x));
+        e.list(&self.flags, |e, &x| e.u8(x));
+        e.list(&self.wake, |e, &x| e.u32(x));
+    }
+
+    /// Reads what [`Swarm::save_state`] wrote.
+    pub(crate) fn load_state(d: &mut Dec<'_>) -> Result<Swarm, StateError> {
+        let nozzle = d.f32()?;
+        let released = d.list(8, |d| Ok((d.u32()?, d.f32()?)))?;
+        let pos = d.list(24, Dec::vec3)?;
+        let n = pos.len();
+        let swarm = Swarm {
+            pos,
+            vel: d.list_of(n, "the velocities", 24, Dec::vec3)?,
+            age: d.list_of(n, "the ages", 4, Dec::f32)?,
+            id: d.list_of(n, "the ids", 4, Dec::u32)?,
+            impacts: d.list_of(n, "the impact counts", 2, Dec::u16)?,
+            flags: d.list_of(n, "the flags", 1, Dec::u8)?,
+            wake: d.list_of(n, "the wake steps", 4, Dec::u32)?,
+            volumes: Volumes { nozzle, released },
+        };
+        if swarm.id.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(StateError::Mismatch("particle ids out of order".into()));
+        }
+        Ok(swarm)
     }
 
     /// Drops retired particles, keeping the others in order (so processing order, and with it

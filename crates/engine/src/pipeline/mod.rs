@@ -17,6 +17,7 @@
 mod apply;
 mod emit;
 mod layers;
+mod persist;
 mod setup;
 mod update;
 

@@ -1,12 +1,17 @@
 //! # spraysim-output
 //!
 //! Writing a run's results: `metrics.json`, per-target arrays (`.npy`), heatmaps (`.png`) and
-//! 3D files of the deposits (PLY, glTF, VTK), the impact log and the resolved scenario. Files are written whole or not at all: everything
-//! goes to a staging folder inside the output directory first and is moved into place only once
-//! all of it has been written.
+//! 3D files of the deposits (PLY, glTF, VTK), the impact log and the resolved scenario, and
+//! checkpoints to resume a run. An output directory always holds one run's complete set while
+//! its `metrics.json` is there (see [`write_all`]).
 
+pub mod checkpoint;
+pub mod control;
 pub mod export;
+mod files;
 pub mod heatmap;
+
+pub use files::{FILE_LIST, STAGING_PREFIX, write_all};
 
 use ndarray::{ArrayViewD, IxDyn};
 use spraysim_engine::Simulation;
@@ -45,7 +50,7 @@ pub enum OutputError {
     },
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
     move |source| OutputError::Io { path: path.to_path_buf(), source }
 }
 
@@ -67,57 +72,74 @@ pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
 /// Writes every output of `sim`, a run of `scenario`, into `dir` (created if needed); returns
 /// the files written.
 pub fn write_outputs(sim: &Simulation, scenario: &Scenario, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    write_all(dir, &outputs(sim, scenario)?)
+    write_outputs_with(sim, scenario, dir, Vec::new())
 }
 
-/// Writes `files` (relative path, contents) into `dir`, created if needed, all or none: they go to a
-/// staging folder inside `dir` first and are moved into place once every one has been written.
-/// Returns the paths written.
-pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
-    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
-    let staging = dir.join(format!(".spraysim-staging-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&staging);
-    std::fs::create_dir(&staging).map_err(io_err(&staging))?;
-    // Names may hold folders (`plots/a.png`): create them in the staging area and in `dir`.
-    let folders = |root: &Path| -> Result<(), OutputError> {
-        for (name, _) in files {
-            if let Some(parent) = root.join(name).parent() {
-                std::fs::create_dir_all(parent).map_err(io_err(parent))?;
-            }
-        }
-        Ok(())
-    };
-    let staged = folders(&staging).and_then(|()| {
-        files.iter().try_for_each(|(name, bytes)| {
-            let path = staging.join(name);
-            std::fs::write(&path, bytes).map_err(io_err(&path))
-        })
-    });
-    let staged = staged.and_then(|()| folders(dir));
-    let result = staged.and_then(|()| {
-        files
-            .iter()
-            .map(|(name, _)| {
-                let to = dir.join(name);
-                std::fs::rename(staging.join(name), &to).map_err(io_err(&to))?;
-                Ok(to)
-            })
-            .collect()
-    });
-    let _ = std::fs::remove_dir_all(&staging);
-    result
+/// [`write_outputs`] with `extra` files (name, contents) of the same run, such as its 3D views:
+/// written in the same set and listed in the same manifest.
+pub fn write_outputs_with(
+    sim: &Simulation,
+    scenario: &Scenario,
+    dir: &Path,
+    extra: Vec<(String, Vec<u8>)>,
+) -> Result<Vec<PathBuf>, OutputError> {
+    write_all(dir, &outputs_with(sim, scenario, extra)?)
 }
 
-/// The metrics of `sim` as `metrics.json` holds them.
+/// What `metrics.json` holds: the engine's metrics, whether the run reached its duration
+/// (`time` says how far it got), and the manifest of the run's other files.
+#[derive(serde::Serialize)]
+struct MetricsFile<'a> {
+    #[serde(flatten)]
+    metrics: &'a spraysim_engine::Metrics,
+    completed: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    files: Option<Vec<FileEntry<'a>>>,
+}
+
+/// One file of a run's set: its name, size in bytes and SHA-256 (hex).
+#[derive(serde::Serialize)]
+struct FileEntry<'a> {
+    name: &'a str,
+    bytes: usize,
+    sha256: String,
+}
+
+/// The metrics of `sim` as `metrics.json` holds them, without the manifest: the engine's
+/// [`spraysim_engine::Metrics`] and whether the run reached its duration (`completed`; `time`
+/// says how far it got).
 pub fn metrics_json(sim: &Simulation) -> Result<String, OutputError> {
-    serde_json::to_string_pretty(&sim.metrics())
+    metrics_file(sim, None)
+}
+
+fn metrics_file(sim: &Simulation, files: Option<&[(String, Vec<u8>)]>) -> Result<String, OutputError> {
+    use sha2::{Digest, Sha256};
+    let metrics = sim.metrics();
+    let files = files.map(|files| {
+        let mut entries = Vec::with_capacity(files.len());
+        for (name, bytes) in files {
+            let sha256 = Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect();
+            entries.push(FileEntry { name, bytes: bytes.len(), sha256 });
+        }
+        entries
+    });
+    let file = MetricsFile { metrics: &metrics, completed: sim.is_finished(), files };
+    serde_json::to_string_pretty(&file)
         .map_err(|e| OutputError::Io { path: "metrics.json".into(), source: e.into() })
 }
 
 /// Every output of `sim`, a run of `sc`, as (file name, contents).
 pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
+    outputs_with(sim, sc, Vec::new())
+}
+
+/// [`outputs`] with `extra` files of the same run, before the manifest is made.
+fn outputs_with(
+    sim: &Simulation,
+    sc: &Scenario,
+    extra: Vec<(String, Vec<u8>)>,
+) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
     let mut files = Vec::new();
-    files.push(("metrics.json".to_string(), metrics_json(sim)?.into_bytes()));
     let header = "# Resolved scenario written by spraysim: every default filled in.\n\
                   # Run it again with `spraysim run scenario.resolved.toml` for the same result.\n\n";
     files.push(("scenario.resolved.toml".into(), format!("{header}{}", sc.to_toml()).into_bytes()));
@@ -133,6 +155,10 @@ pub fn outputs(sim: &Simulation, sc: &Scenario) -> Result<Vec<(String, Vec<u8>)>
         let points: Vec<_> = (0..sw.len()).filter(alive).map(|i| (sw.pos[i], sw.vel[i])).collect();
         files.push(("particles.ply".into(), export::ply_points(&points)));
     }
+    files.extend(extra);
+    // The index of the set comes first: it is moved into place last.
+    let metrics = metrics_file(sim, Some(&files))?.into_bytes();
+    files.insert(0, ("metrics.json".to_string(), metrics));
     Ok(files)
 }
 

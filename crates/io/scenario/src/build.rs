@@ -60,6 +60,14 @@ impl Scenario {
                 end - duration
             ));
         }
+        let kvt = self.process().drag * self.emitter().speed[1] * self.simulation().dt;
+        if kvt > 0.1 {
+            out.push(format!(
+                "process.drag × emitter.speed (max) × simulation.dt = {kvt:.3}: each step changes a particle's \
+                 speed by that share of itself, too coarse for drag to be followed accurately (keep it below 0.1 by \
+                 lowering simulation.dt)"
+            ));
+        }
         let gravity = DVec3::from_array(self.simulation().gravity).normalize_or_zero();
         for t in self.targets() {
             // Facing sideways or down, what slumps down the face piles at its held foot without

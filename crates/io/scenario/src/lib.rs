@@ -19,6 +19,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod budget;
 mod build;
 mod error;
 mod mesh;
@@ -29,6 +30,7 @@ mod reader;
 mod scenario;
 mod tool_path;
 
+pub use budget::{Budget, MemoryPart, bytes_text, default_memory_limit, machine_memory};
 pub use error::ScenarioError;
 pub use mesh::{MAX_TRIANGLES, MeshError};
 pub use overrides::Value;

@@ -1,5 +1,6 @@
 //! Triangle meshes from STL (binary or ASCII) and Wavefront OBJ files.
 
+use crate::reader::MAX_COORD;
 use glam::{DMat3, DVec3};
 use spraysim_engine::collision::Triangle;
 use std::path::Path;
@@ -30,8 +31,10 @@ pub fn load(
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let corners: Vec<[DVec3; 3]> = match ext.as_deref() {
         Some("stl") => {
-            let mut file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
-            let mesh = stl_io::read_stl(&mut file).map_err(|e| err(format!("not a valid STL file: {e}")))?;
+            let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+            check_stl_size(&bytes).map_err(err)?;
+            let mesh = stl_io::read_stl(&mut std::io::Cursor::new(&bytes))
+                .map_err(|e| err(format!("not a valid STL file: {e}")))?;
             let v =
                 |i: usize| mesh.vertices.get(i).map(|p| DVec3::new(p[0].into(), p[1].into(), p[2].into()));
             mesh.faces
@@ -74,10 +77,42 @@ pub fn load(
         Some(r) => r * (p * scale) + offset,
         None => p * scale + offset,
     };
-    let triangles: Vec<Triangle> =
-        corners.into_iter().filter_map(|[a, b, c]| Triangle::new(place(a), place(b), place(c))).collect();
+    let mut triangles = Vec::with_capacity(corners.len());
+    for (i, [a, b, c]) in corners.into_iter().enumerate() {
+        let placed = [place(a), place(b), place(c)];
+        // Every coordinate a scenario gives is bounded; a mesh's, once placed, is too.
+        if let Some(p) = placed.iter().find(|p| !(p.is_finite() && p.abs().max_element() <= MAX_COORD)) {
+            return Err(err(format!(
+                "triangle {} has a corner at {p} m once scaled, rotated and translated: every coordinate must lie within ±{MAX_COORD} m",
+                i + 1
+            )));
+        }
+        triangles.extend(Triangle::new(placed[0], placed[1], placed[2]));
+    }
     if triangles.is_empty() {
         return Err(err("holds no triangles".into()));
     }
     Ok(triangles)
+}
+
+/// Refuses a binary STL whose facet count disagrees with its length: 84 bytes of header and
+/// count, then 50 bytes a facet. A file that starts with `solid` and does not fit the count is
+/// read as ASCII.
+fn check_stl_size(bytes: &[u8]) -> Result<(), String> {
+    let Some(count) = bytes.get(80..84) else {
+        return if bytes.trim_ascii_start().starts_with(b"solid") {
+            Ok(())
+        } else {
+            Err(format!("not a valid STL file: {} bytes, shorter than a binary STL's header", bytes.len()))
+        };
+    };
+    let facets = u64::from(u32::from_le_bytes([count[0], count[1], count[2], count[3]]));
+    let expected = 84 + 50 * facets;
+    if bytes.len() as u64 == expected || bytes.trim_ascii_start().starts_with(b"solid") {
+        return Ok(());
+    }
+    Err(format!(
+        "binary STL whose header counts {facets} facets ({expected} bytes) but the file has {} bytes",
+        bytes.len()
+    ))
 }

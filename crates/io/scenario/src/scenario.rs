@@ -122,9 +122,18 @@ impl Scenario {
 
     fn parse(source: Source) -> Result<Scenario, ScenarioError> {
         let text = overrides::apply(&source.text, &source.origin, &source.overrides)?;
-        let table: toml::Table = toml::from_str(&text).map_err(|e| ScenarioError::Syntax {
-            location: location(&source.origin, e.span().map(|s| line_of(&text, s.start))),
-            message: e.message().trim().to_string(),
+        let table: toml::Table = toml::from_str(&text).map_err(|e| {
+            let line = e.span().map(|s| line_of(&text, s.start));
+            let message = e.message().trim().to_string();
+            // A value that is not TOML (a bare word, a broken number) belongs to a key: name it.
+            match line.and_then(|l| key_at_line(&text, l)) {
+                Some(key) => ScenarioError::Invalid {
+                    location: location(&source.origin, line),
+                    key,
+                    message: format!("is not a valid TOML value: {message}"),
+                },
+                None => ScenarioError::Syntax { location: location(&source.origin, line), message },
+            }
         })?;
         Scenario::resolve(&table, &source).map_err(|inv| {
             let names = |k: &str| {
@@ -161,7 +170,8 @@ impl Scenario {
             read::domain(root.table("domain")?.as_ref(), || default_domain(&nozzle, &targets, &obstacles))?;
         let output = read::output(&root.table_or_empty("output")?, process.preset, simulation.duration)?;
         root.finish("a scenario")?;
-        Ok(Scenario {
+        stable_drag(&simulation, &process, &emitter)?;
+        let scenario = Scenario {
             source: source.clone(),
             simulation,
             process,
@@ -171,7 +181,9 @@ impl Scenario {
             targets,
             domain,
             output,
-        })
+        };
+        fits_in_memory(&scenario)?;
+        Ok(scenario)
     }
 
     /// The scenario as TOML with every value explicit; reading it back gives the same scenario.
@@ -350,4 +362,77 @@ fn locate(text: &str, key: &str) -> Option<usize> {
         }
     }
     best.map(|s| line_of(text, s.start))
+}
+
+/// Largest k·|v|·Δt accepted with drag: beyond 1 an explicit step reverses the velocity.
+const DRAG_UNSTABLE: f64 = 1.0;
+
+/// Refuses drag that the explicit integrators cannot follow: one step changes the speed by
+/// about k |v| Δt of itself, which must stay below 1 (and well below it to be accurate).
+fn stable_drag(s: &SimulationParams, p: &ProcessParams, e: &EmitterParams) -> Read<()> {
+    let kvt = p.drag * e.speed[1] * s.dt;
+    if kvt >= DRAG_UNSTABLE {
+        return crate::reader::bad(
+            "process.drag",
+            format!(
+                "× emitter.speed (max {} m/s) × simulation.dt ({} s) = {kvt:.3}, which makes the explicit \
+                 integrators unstable (it must stay below {DRAG_UNSTABLE}, and below 0.1 to be accurate): \
+                 lower simulation.dt to at most {:.3e} s",
+                e.speed[1],
+                s.dt,
+                0.1 / (p.drag * e.speed[1])
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// Refuses a scenario whose memory bound exceeds its limit, naming the key that drives it.
+fn fits_in_memory(sc: &Scenario) -> Read<()> {
+    let b = sc.budget();
+    match b.largest() {
+        Some(part) if b.memory > b.limit => crate::reader::bad(
+            &part.key,
+            format!(
+                "makes the run need about {} of memory, mostly for {} ({}), more than the limit of {} \
+                 (simulation.max_memory{})",
+                crate::bytes_text(b.memory),
+                part.what,
+                crate::bytes_text(part.bytes),
+                crate::bytes_text(b.limit),
+                if sc.simulation().max_memory > 0.0 {
+                    ""
+                } else {
+                    ", by default half of this machine's memory"
+                }
+            ),
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// The dotted key whose value starts at (or spans) line `line` of `text`, for a value the
+/// TOML parser refused: the key on that line or the nearest one above it within its table,
+/// prefixed by the table's header (`[[target]]` counted, `target[1]`).
+fn key_at_line(text: &str, line: usize) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let upto = lines.get(..line.min(lines.len()))?;
+    let key = upto.iter().rev().take_while(|l| !l.trim_start().starts_with('[')).find_map(|l| {
+        let (k, _) = l.split_once('=')?;
+        let k = k.trim();
+        let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.';
+        (!k.is_empty() && k.chars().all(bare)).then(|| k.to_string())
+    })?;
+    let header = upto.iter().rposition(|l| l.trim_start().starts_with('['));
+    let Some(h) = header else { return Some(key) };
+    let head = upto[h].trim();
+    let section = match head.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
+        Some(name) => {
+            let name = name.trim();
+            let index = upto[..h].iter().filter(|l| l.trim().starts_with(&format!("[[{name}]]"))).count();
+            format!("{name}[{index}]")
+        }
+        None => head.trim_start_matches('[').split(']').next()?.trim().to_string(),
+    };
+    Some(format!("{section}.{key}"))
 }

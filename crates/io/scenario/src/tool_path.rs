@@ -34,6 +34,12 @@ pub(crate) fn read(path: &Path) -> Result<Vec<Pose>, ScenarioError> {
         .from_path(path)
         .map_err(|e| syntax(None, format!("cannot read the tool path: {e}")))?;
     let headers = reader.headers().map_err(|e| syntax(Some(1), e.to_string()))?.clone();
+    // A repeated column would leave it ambiguous which of the two holds the value.
+    for (i, h) in headers.iter().enumerate() {
+        if headers.iter().take(i).any(|earlier| earlier == h) {
+            return Err(syntax(Some(1), format!("column `{h}` appears twice in the header")));
+        }
+    }
     let find = |name: &str| headers.iter().position(|h| h == name);
     let mut index = [0usize; 8];
     for (k, name) in COLUMNS.iter().enumerate() {

@@ -423,6 +423,15 @@ pub fn calibrate(
     };
 
     let initial_sim = problem.simulate(scenario)?;
+    // With nothing on the profile, every nearby parameter gives the same error: the simplex
+    // "converges" at once, to nothing. Refuse instead of reporting that as a fit.
+    if initial_sim.values.iter().all(|&v| v == 0.0) {
+        return Err(CalibrationError::Settings(format!(
+            "nothing the nozzle sprays reaches the profile on target `{}` at the starting values (is the nozzle \
+             aimed at the target?): there is nothing to fit",
+            scenario.targets().get(target).map_or("?", |t| t.name.as_str())
+        )));
+    }
     let solver = NelderMead::new(start_simplex(&initial, &settings.fit))
         .with_sd_tolerance(settings.tolerance)
         .map_err(|e| CalibrationError::Optimiser(e.to_string()))?;
@@ -444,6 +453,12 @@ pub fn calibrate(
     let fitted_scenario = problem.scenario_at(&best).0?;
     let fitted: Vec<f64> = settings.fit.iter().map(|p| p.get(&fitted_scenario)).collect();
     let fitted_sim = problem.simulate(&fitted_scenario)?;
+    if fitted_sim.values.iter().all(|&v| v == 0.0) {
+        return Err(CalibrationError::Settings(format!(
+            "the fit ended where nothing reaches the profile on target `{}` ({termination}): no fit found",
+            scenario.targets().get(target).map_or("?", |t| t.name.as_str())
+        )));
+    }
     let peak = measured.peak();
     Ok(Calibration {
         params: settings.fit.clone(),

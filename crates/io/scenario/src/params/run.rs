@@ -28,6 +28,9 @@ pub struct SimulationParams {
     pub max_impacts_per_step: u32,
     /// Gravitational acceleration, m/s².
     pub gravity: [f64; 3],
+    /// Most memory a run may need, bytes; 0: half of the machine's memory. A scenario whose
+    /// estimate exceeds it is refused before the run.
+    pub max_memory: f64,
 }
 
 /// Reads `[simulation]`; `drag` (1/m) decides whether the exact integrator applies.
@@ -55,6 +58,7 @@ pub(crate) fn read_simulation(s: &Section<'_>, drag: f64) -> Read<SimulationPara
         integrator,
         max_impacts_per_step: s.integer("max_impacts_per_step", Some(8), 1, 1000)? as u32,
         gravity: s.numbers("gravity", Some(GRAVITY.to_array()), Check::Within(-100.0, 100.0), "m/s²")?,
+        max_memory: s.number("max_memory", Some(0.0), Check::Within(0.0, 1e15), "bytes")?,
     };
     s.finish("[simulation]")?;
     Ok(p)

@@ -314,11 +314,19 @@ choices!(ObstacleKind {
 });
 
 /// Checks a name: non-empty, file-name safe, unique among `seen`.
+/// Longest name of a target or obstacle, characters.
+pub const MAX_NAME: usize = 64;
+
 fn name(s: &Section<'_>, seen: &mut Vec<String>) -> Read<String> {
     let n = s.string("name", None)?;
     let key = s.key("name");
     if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
         return bad(&key, format!("must be non-empty and use only letters, digits, '-' and '_', got {n:?}"));
+    }
+    if n.len() > MAX_NAME {
+        // The name begins output file names (`NAME_thickness.npy`), which file systems cap at
+        // 255 bytes: refused now rather than after the run.
+        return bad(&key, format!("must be at most {MAX_NAME} characters, got {}", n.len()));
     }
     if seen.contains(&n) {
         return bad(&key, format!("{n:?} is used twice; names must be unique"));

@@ -1,0 +1,241 @@
+//! Faults sent to a running `spraysim` child process (issue 17): kills while it writes,
+//! repeated runs into one directory, Ctrl-C once and twice, and a resume after `kill -9`.
+//!
+//! The child stops at a named point when `SPRAYSIM_PAUSE_AT` names it (it says so on stderr
+//! and waits for an interrupt), so each signal lands at a known moment without any timing.
+#![cfg(unix)]
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, ChildStderr, Command, Output, Stdio};
+
+const SCENE: &str = r#"
+[simulation]
+duration = 0.2
+[output]
+impact_log = 0.2
+[[target]]
+name = "wall"
+center = [0.0, 0.0, 1.0]
+normal = [-1.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+resolution = [32, 32]
+[[target]]
+name = "floor"
+role = "collector"
+center = [-1.5, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+up = [1.0, 0.0, 0.0]
+size = [4.0, 3.0]
+resolution = [16, 16]
+"#;
+
+fn spraysim(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spraysim"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("spraysim starts")
+}
+
+/// Starts `spraysim ARGS` pausing at `point` (several: comma-separated), and waits until it
+/// has reached the first.
+fn paused_at(args: &[&str], cwd: &Path, point: &str) -> (Child, BufReader<ChildStderr>) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_spraysim"))
+        .args(args)
+        .current_dir(cwd)
+        .env("SPRAYSIM_PAUSE_AT", point)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spraysim starts");
+    let mut err = BufReader::new(child.stderr.take().expect("stderr"));
+    let first = point.split(',').next().unwrap_or(point);
+    wait_for(&mut err, &format!("paused at {first}"));
+    (child, err)
+}
+
+/// Reads stderr until a line contains `what` (panics if the child ends first).
+fn wait_for(err: &mut BufReader<ChildStderr>, what: &str) {
+    let mut line = String::new();
+    loop {
+        line.clear();
+        assert!(err.read_line(&mut line).expect("stderr") > 0, "the child ended before `{what}`");
+        if line.contains(what) {
+            return;
+        }
+    }
+}
+
+fn signal(child: &Child, name: &str) {
+    let status =
+        Command::new("kill").args([&format!("-{name}"), &child.id().to_string()]).status().expect("kill");
+    assert!(status.success());
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// `dir` holds exactly the set its `metrics.json` lists (sizes checked) beside the writer's
+/// list of names; returns the metrics.
+fn one_complete_set(dir: &Path) -> serde_json::Value {
+    let metrics: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("metrics.json")).expect("metrics.json"))
+            .expect("json");
+    let mut expected = vec!["metrics.json".to_string(), ".spraysim-files".to_string()];
+    for f in metrics["files"].as_array().expect("manifest") {
+        let name = f["name"].as_str().expect("name").to_string();
+        let len = std::fs::metadata(dir.join(&name)).expect("listed file present").len();
+        assert_eq!(len, f["bytes"].as_u64().expect("bytes"), "{name}");
+        expected.push(name);
+    }
+    expected.sort();
+    // A checkpoint, and a staging folder an abort left (the next write removes it), are not
+    // part of the set.
+    let names: Vec<String> = listing(dir)
+        .into_iter()
+        .filter(|n| n != "checkpoint.spraysim" && !n.starts_with(".spraysim-staging-"))
+        .collect();
+    assert_eq!(names, expected);
+    metrics
+}
+
+/// Every file of `dir` with its contents, but a staging folder left by an abort.
+fn contents(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    listing(dir)
+        .into_iter()
+        .filter(|n| !n.starts_with(".spraysim-staging-"))
+        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).expect("read")))
+        .collect()
+}
+
+fn setup() -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SCENE).expect("write");
+    let ground = SCENE.replace("\"floor\"", "\"ground\"").replace("impact_log = 0.2", "impact_log = 0");
+    std::fs::write(tmp.path().join("ground.toml"), ground).expect("write");
+    tmp
+}
+
+#[test]
+fn issue17_09_repeated_runs_into_one_directory_leave_only_the_last_set() {
+    let tmp = setup();
+    let o = spraysim(&["run", "s.toml", "-o", "out", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let first = one_complete_set(&tmp.path().join("out"));
+    assert!(
+        first["files"].to_string().contains("floor_hits.npy")
+            && first["files"].to_string().contains("impacts.csv")
+    );
+    let o = spraysim(&["run", "ground.toml", "-o", "out", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let second = one_complete_set(&tmp.path().join("out"));
+    let files = second["files"].to_string();
+    assert!(files.contains("ground_hits.npy") && !files.contains("floor_") && !files.contains("impacts.csv"));
+}
+
+#[test]
+fn issue17_09_a_kill_while_files_move_into_place_leaves_no_mixed_set() {
+    let tmp = setup();
+    let out = tmp.path().join("out");
+    assert!(spraysim(&["run", "s.toml", "-o", "out", "-q"], tmp.path()).status.success());
+    // Killed after two of the new files moved in: the index is gone, so no set is claimed.
+    let (mut child, _err) = paused_at(&["run", "ground.toml", "-o", "out", "-q"], tmp.path(), "commit:2");
+    child.kill().expect("kill -9");
+    child.wait().expect("wait");
+    assert!(!out.join("metrics.json").exists(), "metrics.json beside files of another run");
+    assert!(listing(&out).iter().any(|n| n.starts_with(".spraysim-staging-")));
+    // The next run cleans up after it: one complete set, nothing of either earlier run.
+    assert!(spraysim(&["run", "ground.toml", "-o", "out", "-q"], tmp.path()).status.success());
+    let m = one_complete_set(&out);
+    assert!(!m["files"].to_string().contains("floor_"));
+    assert!(!listing(&out).iter().any(|n| n.contains("floor") || n.starts_with(".spraysim-staging-")));
+}
+
+#[test]
+fn issue17_10_first_ctrl_c_stops_and_writes_the_run_so_far() {
+    let tmp = setup();
+    let (mut child, mut err) = paused_at(&["run", "s.toml", "-o", "out", "-q"], tmp.path(), "step:40");
+    signal(&child, "INT");
+    wait_for(&mut err, "interrupted at t = 0.040000 s");
+    let status = child.wait().expect("wait");
+    assert_eq!(status.code(), Some(130));
+    let m = one_complete_set(&tmp.path().join("out"));
+    assert_eq!(m["completed"], false);
+    assert_eq!(m["steps"], 40);
+    assert!((m["time"].as_f64().expect("time") - 0.04).abs() < 1e-12);
+}
+
+#[test]
+fn issue17_10_second_ctrl_c_aborts_leaving_the_previous_outputs_intact() {
+    let tmp = setup();
+    let out = tmp.path().join("out");
+    assert!(spraysim(&["run", "ground.toml", "-o", "out", "-q"], tmp.path()).status.success());
+    let before = contents(&out);
+    // The first Ctrl-C at a step, the second while the outputs so far are being staged.
+    let (mut child, mut err) = paused_at(&["run", "s.toml", "-o", "out", "-q"], tmp.path(), "step:40,staged");
+    signal(&child, "INT");
+    wait_for(&mut err, "paused at staged");
+    signal(&child, "INT");
+    assert_eq!(child.wait().expect("wait").code(), Some(130));
+    assert!(listing(&out).iter().any(|n| n.starts_with(".spraysim-staging-")), "aborted while staging");
+    assert!(contents(&out) == before, "the previous outputs changed");
+    assert_eq!(one_complete_set(&out)["completed"], true);
+}
+
+#[test]
+fn issue17_11_resume_after_kill_9_is_byte_identical_to_an_uninterrupted_run() {
+    let tmp = setup();
+    let out = tmp.path().join("out");
+    let args = ["run", "s.toml", "-o", "out", "-q", "--checkpoint-every", "50ms", "-j", "2"];
+    assert!(spraysim(&args, tmp.path()).status.success());
+    assert!(!out.join("checkpoint.spraysim").exists(), "a completed run keeps no checkpoint");
+    let reference = contents(&out);
+    std::fs::remove_dir_all(&out).expect("rm");
+    // Killed between the checkpoints at 0.10 s and 0.15 s, then resumed on one thread.
+    let (mut child, _err) = paused_at(&args, tmp.path(), "step:120");
+    child.kill().expect("kill -9");
+    child.wait().expect("wait");
+    assert!(out.join("checkpoint.spraysim").exists());
+    let o = spraysim(&["resume", "out", "-q", "-j", "1"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(contents(&out) == reference, "the resumed run's outputs differ");
+    // Interrupted with Ctrl-C, then resumed: the same bytes again.
+    std::fs::remove_dir_all(&out).expect("rm");
+    let (mut child, mut err) = paused_at(&args, tmp.path(), "step:77");
+    signal(&child, "INT");
+    wait_for(&mut err, "spraysim resume");
+    assert_eq!(child.wait().expect("wait").code(), Some(130));
+    assert_eq!(one_complete_set(&out)["completed"], false);
+    let o = spraysim(&["resume", "out", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(contents(&out) == reference, "the outputs after Ctrl-C and resume differ");
+}
+
+#[test]
+fn issue17_02_check_reports_steps_particles_and_memory() {
+    let tmp = setup();
+    let o = spraysim(&["check", "s.toml"], tmp.path());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success() && text.contains("200 steps") && text.contains("particles"), "{text}");
+    assert!(text.contains("of memory (limit"), "{text}");
+    let o = spraysim(
+        &["check", "s.toml", "--set", "emitter.spawn_rate=1e9", "--set", "simulation.dt=0.1"],
+        tmp.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("`emitter.spawn_rate`") && err.contains("memory"), "{err}");
+    let o = spraysim(
+        &["check", "s.toml", "--set", "simulation.duration=1e4", "--set", "simulation.dt=1e-4"],
+        tmp.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains("100000000 steps"), "{err}");
+}
