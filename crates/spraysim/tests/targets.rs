@@ -263,3 +263,26 @@ fn thickness_statistics_weigh_by_area_report_the_share_in_spec_and_leave_out_the
     assert!((inner.area - 0.64).abs() < 1e-9 && inner.in_tolerance == Some(1.0), "{inner:?}");
     assert!(inner.std_dev < 1e-12 && (inner.mean - 0.01).abs() < 1e-12);
 }
+
+/// A face of `[2, 2]` m with one opening given by `opening` (TOML keys).
+fn wall_with(opening: &str) -> Result<Scenario, String> {
+    let text = format!(
+        "[[target]]\nname = \"wall\"\ncenter = [0.0, 0.0, 1.0]\nnormal = [-1.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\n\
+         size = [2.0, 2.0]\n[[target.opening]]\n{opening}\n"
+    );
+    Scenario::from_toml(&text, "wall.toml").map_err(|e| e.to_string())
+}
+
+#[test]
+fn an_opening_across_the_whole_face_is_accepted_and_one_off_it_is_refused() {
+    // A slot from edge to edge: no corner on the face, no face corner in it.
+    assert!(wall_with("center = [0.0, 0.3]\nsize = [3.0, 0.1]").is_ok());
+    assert!(
+        wall_with("shape = \"polygon\"\ncorners = [[-1.5, 0.0], [1.5, 0.0], [1.5, 0.1], [-1.5, 0.1]]")
+            .is_ok()
+    );
+    let off = wall_with("center = [3.0, 0.0]\nsize = [0.5, 0.5]").expect_err("off the face");
+    assert!(off.contains("target[0].opening[0].center") && off.contains("outside the face"), "{off}");
+    let flat = wall_with("center = [0.0, 0.0]\nsize = [0.5, 0.0]").expect_err("no area");
+    assert!(flat.contains("size"), "{flat}");
+}

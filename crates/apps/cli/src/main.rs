@@ -43,7 +43,8 @@ enum Command {
         checkpoint_every: Option<f64>,
     },
     /// Continue a run from the checkpoint in its output directory; the outputs are those the
-    /// run would have written without the stop, byte for byte.
+    /// run would have written without the stop, byte for byte (of `[output] render`'s 3D
+    /// views, only those due after the checkpoint are drawn).
     Resume {
         /// The output directory of the run (holding `checkpoint.spraysim`).
         dir: PathBuf,
@@ -427,10 +428,11 @@ fn resume(dir: &Path, threads: usize, quiet: bool) -> Result<()> {
     let origin = dir.join(checkpoint::CHECKPOINT_FILE).display().to_string();
     let scenario = Scenario::from_toml(&ck.scenario, &origin)?;
     writable(dir)?;
-    // Views due before the checkpoint's time are not drawn again.
-    let recorder = render::recorder(&scenario)?;
+    let mut recorder = render::recorder(&scenario)?;
     let mut sim = scenario.build()?;
     sim.restore_state(&ck.state).with_context(|| format!("{origin}: cannot resume"))?;
+    // Views due before the checkpoint's time show states this process never had.
+    recorder.skip_before(sim.time());
     sim.set_threads(threads)?;
     if !quiet {
         say!("resuming at t = {:.3} s of {} s", sim.time(), scenario.simulation().duration);

@@ -161,6 +161,9 @@ mod imp {
             Ok(())
         }
 
+        /// Nothing to skip.
+        pub fn skip_before(&mut self, _time: f64) {}
+
         /// Nothing written.
         pub fn finish(self, _sim: &spraysim::Simulation, _quiet: bool) -> Result<Vec<(String, Vec<u8>)>> {
             Ok(Vec::new())
@@ -208,9 +211,20 @@ mod imp {
             Ok(())
         }
 
-        /// Renders the end stills, encodes the animation and writes everything into `dir`.
+        /// Drops the stills and frames due before `time` (s): a resumed run cannot draw them.
+        pub fn skip_before(&mut self, time: f64) {
+            if let Some(r) = &mut self.0 {
+                r.skip_before(time);
+            }
+        }
+
+        /// Renders the end stills and encodes the animation; returns the files (name, contents).
         pub fn finish(self, sim: &spraysim::Simulation, quiet: bool) -> Result<Vec<(String, Vec<u8>)>> {
-            let Some(r) = self.0 else { return Ok(Vec::new()) };
+            let Some(mut r) = self.0 else { return Ok(Vec::new()) };
+            // Stopped early: the views of times never reached are not drawn.
+            if !sim.is_finished() {
+                r.drop_after(sim.time());
+            }
             let recording = r.finish(sim)?;
             if !quiet {
                 for n in &recording.notes {

@@ -44,6 +44,12 @@ pub trait Chart: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// What the map's columns (growing `u`) and rows (growing `v`) run along.
     fn axes(&self) -> [MapAxis; 2];
 
+    /// True if the map's first and last columns meet (a full turn of a shell): the layer runs
+    /// on across that seam, which is no edge.
+    fn wraps(&self) -> bool {
+        false
+    }
+
     /// True if `(u, v)` lies on the surface.
     #[inline]
     fn covers(&self, u: f64, v: f64) -> bool {
@@ -165,12 +171,17 @@ impl Chart for ShellChart {
     }
 
     fn sag(&self, p0: DVec3, p1: DVec3) -> f64 {
-        // Outside, a chord cuts towards the axis by at most its sagitta L²/(8R).
+        // Outside, a chord cuts towards the axis by its sagitta, L²/(8R) to leading order (the
+        // steps are far shorter than the radius).
         if self.inside { 0.0 } else { p0.distance_squared(p1) / (8.0 * self.shell.radius) }
     }
 
     fn shape(&self) -> Shape {
         Shape::Shell(self.shell)
+    }
+
+    fn wraps(&self) -> bool {
+        self.shell.angles[1] - self.shell.angles[0] >= 2.0 * PI - 1e-9
     }
 
     fn axes(&self) -> [MapAxis; 2] {

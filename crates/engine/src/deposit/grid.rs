@@ -32,7 +32,8 @@ impl<C: Chart> GridSurface<C> {
     /// over the cells within `splat_radius` (m) of the struck cell's centre.
     pub fn new(chart: C, cols: usize, rows: usize, splat_radius: f64) -> Self {
         let (w, h) = chart.size();
-        let field = HeightField::new(w, h, cols, rows, splat_radius);
+        let mut field = HeightField::new(w, h, cols, rows, splat_radius);
+        field.set_wrap(chart.wraps());
         GridSurface { chart, field, held_edges: false, openings: Vec::new() }
     }
 
@@ -133,7 +134,11 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
 
     #[inline]
     fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
-        self.field.layer_contact(&self.chart, p0, p1)
+        // A contact by an opening's edge is booked to the solid cell beside it.
+        let mut contact = self.field.layer_contact(&self.chart, p0, p1)?;
+        let (u, v, _) = self.chart.local(contact.point);
+        contact.cell = self.solid(contact.cell, u, v);
+        Some(contact)
     }
 
     #[inline]
@@ -204,25 +209,26 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
     fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64)) {
         let (cols, rows) = (self.field.cols(), self.field.rows());
         let (dx, dy) = self.field.cell_size();
-        let c = cell as usize;
-        let (r, col) = (c / cols, c % cols);
+        let (r, col) = (cell as usize / cols, cell as usize % cols);
         // Edges first, left, right, below, above: the order cohesion sums what holds a region.
-        let (left, right, below, above) = (col > 0, col + 1 < cols, r > 0, r + 1 < rows);
-        let edges = [
-            (left, c.wrapping_sub(1), dy),
-            (right, c + 1, dy),
-            (below, c.wrapping_sub(cols), dx),
-            (above, c + cols, dx),
+        let steps = [
+            (-1, 0, dy),
+            (1, 0, dy),
+            (0, -1, dx),
+            (0, 1, dx),
+            (-1, -1, 0.0),
+            (1, -1, 0.0),
+            (-1, 1, 0.0),
+            (1, 1, 0.0),
         ];
-        let corners = [
-            (left && below, c.wrapping_sub(cols + 1), 0.0),
-            (right && below, c.wrapping_sub(cols).wrapping_add(1), 0.0),
-            (left && above, c + cols - 1, 0.0),
-            (right && above, c + cols + 1, 0.0),
-        ];
-        for (inside, n, edge) in edges.into_iter().chain(corners) {
-            if inside && !self.field.is_hole(n as u32) {
-                visit(n as u32, edge);
+        for (dc, dr, edge) in steps {
+            let rr = r as isize + dr;
+            let Some(cc) = self.field.column(col as isize + dc) else { continue };
+            if (0..rows as isize).contains(&rr) {
+                let n = (rr as usize * cols + cc) as u32;
+                if !self.field.is_hole(n) {
+                    visit(n, edge);
+                }
             }
         }
     }
@@ -233,13 +239,17 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
         let (r, c) = (cell as isize / cols, cell as isize % cols);
         let (u, v) = self.field.cell_center(cell);
         for (dr, dc) in [(0, -1), (0, 1), (-1, 0), (1, 0), (-1, -1), (-1, 1), (1, -1), (1, 1)] {
-            let (rr, cc) = (r + dr, c + dc);
-            let inside = (0..rows).contains(&rr) && (0..cols).contains(&cc);
+            let rr = r + dr;
+            let column = self.field.column(c + dc);
+            let inside = (0..rows).contains(&rr) && column.is_some();
             if !inside && self.held_edges {
                 continue;
             }
             // Into an opening the layer runs off, as over a free edge.
-            let k = inside.then(|| (rr * cols + cc) as u32).filter(|&k| !self.field.is_hole(k));
+            let k = column
+                .filter(|_| inside)
+                .map(|cc| (rr * cols + cc as isize) as u32)
+                .filter(|&k| !self.field.is_hole(k));
             let centre = self.chart.point(u + dc as f64 * dx, v + dr as f64 * dy, 0.0);
             visit(k, centre);
         }
@@ -268,7 +278,9 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
     fn edge_distance(&self, cell: u32) -> f64 {
         let (u, v) = self.field.cell_center(cell);
         let (w, h) = self.chart.size();
-        let border = (0.5 * w - u.abs()).min(0.5 * h - v.abs());
+        // Across the seam of a full turn the surface goes on.
+        let across = if self.chart.wraps() { f64::INFINITY } else { 0.5 * w - u.abs() };
+        let border = across.min(0.5 * h - v.abs());
         self.openings.iter().map(|o| o.distance(u, v)).fold(border, f64::min)
     }
 
@@ -475,5 +487,43 @@ mod openings {
         let mut ghosts = 0;
         f.stencil(32, &mut |k, _| ghosts += usize::from(k.is_none()));
         assert_eq!(ghosts, 2, "right and up-right lie in the window");
+    }
+}
+
+#[cfg(test)]
+mod full_turn {
+    use super::*;
+    use crate::collision::CylinderShell;
+    use std::f64::consts::PI;
+
+    /// A tank's wall seen from outside: a full turn of 36 columns (10°) by 10 rows, 1 m radius,
+    /// 1 m long, its seam (angle ±180°) on the side away from the reference direction.
+    fn tank(angles: [f64; 2]) -> CylinderSurface {
+        let shell = CylinderShell::new(DVec3::ZERO, DVec3::Z, DVec3::X, 1.0, 1.0, angles).expect("valid");
+        CylinderSurface::new(ShellChart { shell, inside: false }, 36, 10, 0.3)
+    }
+
+    #[test]
+    fn a_full_turn_has_no_edge_at_its_seam() {
+        let mut t = tank([-PI, PI]);
+        let seam = 5 * 36; // column 0 of the middle row, next to the seam
+        let mut seen = Vec::new();
+        t.neighbours(seam, &mut |n, _| seen.push(n));
+        assert!(seen.contains(&(5 * 36 + 35)), "the last column is across the seam: {seen:?}");
+        let mut ghosts = 0;
+        t.stencil(seam, &mut |k, _| ghosts += usize::from(k.is_none()));
+        assert_eq!(ghosts, 0, "nothing runs off at the seam");
+        // Only the ends of the axis are edges.
+        assert!((t.edge_distance(seam) - 0.45).abs() < 1e-12, "{}", t.edge_distance(seam));
+        // A splat at the seam spreads across it and keeps its volume.
+        t.deposit(seam, 1e-3);
+        assert!(t.thickness()[5 * 36 + 35] > 0.0);
+        assert!((t.volume() - 1e-3).abs() < 1e-15);
+        // The same shell cut just short of a full turn has an edge there.
+        let cut = tank([-PI, 0.99 * PI]);
+        let mut ghosts = 0;
+        cut.stencil(seam, &mut |k, _| ghosts += usize::from(k.is_none()));
+        assert_eq!(ghosts, 3);
+        assert!(cut.edge_distance(seam) < 0.1);
     }
 }

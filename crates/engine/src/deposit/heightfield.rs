@@ -48,6 +48,8 @@ pub struct HeightField {
     changed: ChangedCells,
     /// Per cell, true where the surface is cut away (an opening); empty when none is.
     hole: Vec<bool>,
+    /// The columns are periodic (a full turn of a shell).
+    wrap: bool,
 }
 
 impl HeightField {
@@ -81,6 +83,7 @@ impl HeightField {
             splat,
             changed: ChangedCells::new(cols * rows),
             hole: Vec::new(),
+            wrap: false,
         }
     }
 
@@ -109,6 +112,19 @@ impl HeightField {
     pub fn set_holes(&mut self, hole: Vec<bool>) {
         debug_assert_eq!(hole.len(), self.thickness.len());
         self.hole = if hole.iter().any(|&h| h) { hole } else { Vec::new() };
+    }
+
+    /// Makes the columns periodic (`true`): column `cols` is column 0 again, as on a full turn
+    /// of a shell, for the splat, means, gradients and neighbours.
+    pub fn set_wrap(&mut self, wrap: bool) {
+        self.wrap = wrap;
+    }
+
+    /// The column `c` stands for: itself inside the grid, the one it wraps round to on a
+    /// periodic grid, or `None` beyond an edge.
+    #[inline]
+    pub fn column(&self, c: isize) -> Option<usize> {
+        column_of(c, self.cols, self.wrap)
     }
 
     /// True if `cell` is cut away.
@@ -214,20 +230,17 @@ impl HeightField {
         let (row, col) = (cell as isize / cols, cell as isize % cols);
         // The struck cell always takes its share (it is never a hole when struck).
         let hole = std::mem::take(&mut self.hole);
-        let takes = |i: isize, j: isize| {
-            (0..cols).contains(&(col + i))
-                && (0..rows).contains(&(row + j))
-                && ((i, j) == (0, 0)
-                    || !hole.get(((row + j) * cols + col + i) as usize).copied().unwrap_or(false))
+        let (ncols, wrap) = (self.cols, self.wrap);
+        let target = |i: isize, j: isize| {
+            let c = column_of(col + i, ncols, wrap).filter(|_| (0..rows).contains(&(row + j)))?;
+            let k = (row + j) as usize * ncols + c;
+            ((i, j) == (0, 0) || !hole.get(k).copied().unwrap_or(false)).then_some(k)
         };
-        let n = self.splat.iter().filter(|&&(i, j)| takes(i, j)).count();
+        let n = self.splat.iter().filter(|&&(i, j)| target(i, j).is_some()).count();
         let added = volume / (n as f64 * self.cell_area());
         for k in 0..self.splat.len() {
             let (i, j) = self.splat[k];
-            if !takes(i, j) {
-                continue;
-            }
-            let c = (row + j) as usize * self.cols + (col + i) as usize;
+            let Some(c) = target(i, j) else { continue };
             self.thickness[c] += added;
             self.raise_bounds(c, self.thickness[c]);
             self.mark(c);
@@ -246,10 +259,13 @@ impl HeightField {
         let (cols, rows) = (self.cols as isize, self.rows as isize);
         let (row, col) = (cell as isize / cols, cell as isize % cols);
         let (mut sum, mut n) = (0.0, 0.0);
+        // At most one full turn of a periodic grid, each column once.
+        let rx = rx.min((cols - 1) / 2);
         for j in (row - ry).max(0)..=(row + ry).min(rows - 1) {
-            for i in (col - rx).max(0)..=(col + rx).min(cols - 1) {
+            for i in col - rx..=col + rx {
+                let Some(ci) = self.column(i) else { continue };
                 let (x, y) = ((i - col) as f64 * dx, (j - row) as f64 * dy);
-                let c = (j * cols + i) as usize;
+                let c = j as usize * self.cols + ci;
                 if x * x + y * y <= radius * radius && !self.is_hole(c as u32) {
                     sum += self.thickness[c];
                     n += 1.0;
@@ -270,9 +286,14 @@ impl HeightField {
         let (dx, dy) = self.cell_size();
         let (row, col) = (cell as usize / self.cols, cell as usize % self.cols);
         let at = |r: usize, c: usize| self.thickness[r * self.cols + c];
-        let (c0, c1) = (col.saturating_sub(self.reach.0), (col + self.reach.0).min(self.cols - 1));
         let (r0, r1) = (row.saturating_sub(self.reach.1), (row + self.reach.1).min(self.rows - 1));
-        let gu = if c1 > c0 { (at(row, c1) - at(row, c0)) / ((c1 - c0) as f64 * dx) } else { 0.0 };
+        let reach = self.reach.0.min((self.cols - 1) / 2) as isize;
+        let (lo, hi) = (col as isize - reach, col as isize + reach);
+        // Clamped to the grid, or across the seam of a periodic one.
+        let c0 = self.column(lo).map_or((0, 0), |c| (c, lo));
+        let c1 = self.column(hi).map_or((self.cols - 1, self.cols as isize - 1), |c| (c, hi));
+        let span = (c1.1 - c0.1) as f64;
+        let gu = if span > 0.0 { (at(row, c1.0) - at(row, c0.0)) / (span * dx) } else { 0.0 };
         let gv = if r1 > r0 { (at(r1, col) - at(r0, col)) / ((r1 - r0) as f64 * dy) } else { 0.0 };
         (gu, gv)
     }
@@ -426,6 +447,19 @@ fn bisect(mut a: f64, mut b: f64, inside: impl Fn(f64) -> bool) -> (f64, f64) {
         }
     }
     (a, b)
+}
+
+/// Column `c` of a grid of `cols` columns: itself inside, wrapped round when `wrap`, or `None`.
+#[inline]
+fn column_of(c: isize, cols: usize, wrap: bool) -> Option<usize> {
+    let n = cols as isize;
+    if (0..n).contains(&c) {
+        Some(c as usize)
+    } else if wrap {
+        Some(c.rem_euclid(n) as usize)
+    } else {
+        None
+    }
 }
 
 /// A set of cells, one bit each: the cells whose thickness changed since the layer stages last

@@ -151,7 +151,8 @@ fn weld(triangles: &[Triangle]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         .iter()
         .map(|t| {
             t.corners.map(|p| {
-                *at.entry(p.to_array().map(f64::to_bits)).or_insert_with(|| {
+                // + 0.0 makes −0.0 and 0.0 one corner.
+                *at.entry((p + DVec3::ZERO).to_array().map(f64::to_bits)).or_insert_with(|| {
                     vertices.push(p);
                     (vertices.len() - 1) as u32
                 })

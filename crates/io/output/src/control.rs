@@ -5,18 +5,17 @@
 //! the handler when they are moving files into place, which must not be cut short by a
 //! second Ctrl-C.
 
-use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// Interrupts received (Ctrl-C presses).
 static INTERRUPTS: AtomicUsize = AtomicUsize::new(0);
-/// What the writers and the interrupt handler agree on: [`IDLE`], [`COMMITTING`] (files are
-/// being moved into place, which an abort must not cut short) or [`ABORTING`] (the process is
-/// exiting, and nothing may start moving files).
-static PHASE: AtomicU8 = AtomicU8::new(IDLE);
-const IDLE: u8 = 0;
-const COMMITTING: u8 = 1;
-const ABORTING: u8 = 2;
+/// What the writers and the interrupt handler agree on: how many writers are moving files into
+/// place (which an abort must not cut short; several threads of one process may write sets
+/// into different directories at once), or [`ABORTING`] (the process is exiting, and nothing
+/// may start moving files).
+static PHASE: AtomicUsize = AtomicUsize::new(0);
+const ABORTING: usize = usize::MAX;
 
 /// The environment variable that names a pause point (see [`pause_point`]).
 pub const PAUSE_VARIABLE: &str = "SPRAYSIM_PAUSE_AT";
@@ -34,7 +33,7 @@ pub fn interrupts() -> usize {
 /// Claims the right to abort: true when no writer is moving files into place, and then none
 /// will start; false while one is (the caller lets it finish and exits after it).
 pub fn try_abort() -> bool {
-    PHASE.compare_exchange(IDLE, ABORTING, Ordering::SeqCst, Ordering::SeqCst).is_ok()
+    PHASE.compare_exchange(0, ABORTING, Ordering::SeqCst, Ordering::SeqCst).is_ok()
 }
 
 /// Marks the stretch in which files are moved into place, until the guard drops.
@@ -43,13 +42,17 @@ pub(crate) struct Committing;
 impl Committing {
     /// Enters the stretch; `None` when the process is aborting and must not start it.
     pub fn start() -> Option<Committing> {
-        PHASE.compare_exchange(IDLE, COMMITTING, Ordering::SeqCst, Ordering::SeqCst).ok().map(|_| Committing)
+        PHASE
+            .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| (n != ABORTING).then_some(n + 1))
+            .ok()
+            .map(|_| Committing)
     }
 }
 
 impl Drop for Committing {
     fn drop(&mut self) {
-        let _ = PHASE.compare_exchange(COMMITTING, IDLE, Ordering::SeqCst, Ordering::SeqCst);
+        // Never ABORTING here: an abort waits for every writer to leave.
+        PHASE.fetch_sub(1, Ordering::SeqCst);
     }
 }
 
@@ -64,5 +67,23 @@ pub fn pause_point(point: &str) {
         while interrupts() == seen && start.elapsed() < Duration::from_secs(60) {
             std::thread::sleep(Duration::from_millis(5));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writers_on_several_threads_commit_at_once_and_an_abort_waits_for_them() {
+        let a = Committing::start().expect("first writer");
+        let b = Committing::start().expect("a second writer, on another thread, at the same time");
+        assert!(!try_abort(), "no abort while files move into place");
+        drop(a);
+        assert!(!try_abort());
+        drop(b);
+        assert!(try_abort(), "an abort once no writer is moving files");
+        assert!(Committing::start().is_none(), "nothing starts moving once aborting");
+        PHASE.store(0, Ordering::SeqCst);
     }
 }

@@ -390,8 +390,14 @@ fn raster_chart(sc: &Scenario, name: &str) -> Option<RasterChart> {
         TargetShape::Cylinder { .. } => RasterChart::Shell(shell_chart(&t.shape)?),
         TargetShape::Mesh { mesh, side } => {
             let (centre, normal, up, size) = mean_plane(&mesh.triangles);
-            let normal = if *side == MeshSide::Back { -normal } else { normal };
-            RasterChart::Face(Face::new(centre, normal, up, size))
+            if *side == MeshSide::Back {
+                // The plane touches the mesh on its back: the nozzle stands off behind it.
+                let corners = mesh.triangles.iter().flat_map(|t| t.corners);
+                let deepest = corners.map(|p| (p - centre).dot(normal)).fold(0.0, f64::min);
+                RasterChart::Face(Face::new(centre + normal * deepest, -normal, up, size))
+            } else {
+                RasterChart::Face(Face::new(centre, normal, up, size))
+            }
         }
     })
 }

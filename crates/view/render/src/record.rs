@@ -102,6 +102,22 @@ impl Recorder {
         Ok(())
     }
 
+    /// Drops the stills and frames due before `time` (s), which a run resumed at `time` cannot
+    /// draw from the state they show.
+    pub fn skip_before(&mut self, time: f64) {
+        let due = time - self.dt / 2.0;
+        self.stills.retain(|&t| t >= due);
+        self.frame_times.retain(|&t| t >= due);
+    }
+
+    /// Drops the stills and frames due after `time` (s), which a run stopped at `time` never
+    /// reached: an interrupted run's views show only what it simulated.
+    pub fn drop_after(&mut self, time: f64) {
+        let due = time + self.dt / 2.0;
+        self.stills.retain(|&t| t <= due);
+        self.frame_times.retain(|&t| t <= due);
+    }
+
     /// Takes the stills and frames still due (the `end` stills among them) from the final
     /// state `sim`, and encodes the animation.
     pub fn finish(mut self, sim: &Simulation) -> Result<Recording, RenderError> {

@@ -445,20 +445,47 @@ fn read_opening(s: &Section<'_>, size: [f64; 2]) -> Read<OpeningParams> {
         }
     };
     let polygon = opening(&o);
+    let is_rectangle = matches!(o, OpeningParams::Rectangle { .. });
     if polygon.area() <= 1e-12 {
-        return bad(&s.key("corners"), "must enclose an area");
+        return bad(&s.key(if is_rectangle { "size" } else { "corners" }), "must enclose an area");
     }
-    // Some of the opening must lie on the face: a corner on it, or the face's centre in it.
+    // Some of the opening must lie on the face: a corner on it, a face corner in it, or an
+    // edge across it (a slot from side to side).
     let (hw, hh) = (size[0] / 2.0, size[1] / 2.0);
+    let n = polygon.corners.len();
     let on_face = polygon.corners.iter().any(|&(u, v)| u.abs() < hw && v.abs() < hh)
-        || [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh), (0.0, 0.0)]
-            .iter()
-            .any(|&(u, v)| polygon.contains(u, v));
+        || [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)].iter().any(|&(u, v)| polygon.contains(u, v))
+        || (0..n).any(|k| crosses_box(polygon.corners[k], polygon.corners[(k + 1) % n], hw, hh));
     if !on_face {
-        return bad(&s.key("center"), "puts the opening outside the face");
+        return bad(
+            &s.key(if is_rectangle { "center" } else { "corners" }),
+            "puts the opening outside the face",
+        );
     }
     s.finish("an opening")?;
     Ok(o)
+}
+
+/// True if the segment `a → b` passes through the open box |u| < `hw`, |v| < `hh`
+/// (Liang–Barsky clipping).
+fn crosses_box(a: (f64, f64), b: (f64, f64), hw: f64, hh: f64) -> bool {
+    let (du, dv) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for (p, q) in [(-du, a.0 + hw), (du, hw - a.0), (-dv, a.1 + hh), (dv, hh - a.1)] {
+        if p == 0.0 {
+            if q <= 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    t0 < t1
 }
 
 /// The engine's polygon of an opening.
