@@ -30,7 +30,8 @@ def test_outputs_are_byte_identical_to_the_commands(cli, tmp_path, monkeypatch):
     sim.run()
     monkeypatch.chdir(by_python)
     written = sim.write_outputs("out")
-    names = sorted(os.listdir(by_cli / "out"))
+    # The writer's own bookkeeping (hidden files) is not part of the set.
+    names = sorted(n for n in os.listdir(by_cli / "out") if not n.startswith("."))
     assert names == sorted(os.path.basename(p) for p in written)
     assert {"metrics.json", "wall_thickness.npy", "wall_thickness.png", "scenario.resolved.toml"} <= set(names)
     match, mismatch, errors = filecmp.cmpfiles(by_cli / "out", by_python / "out", names, shallow=False)
@@ -42,9 +43,14 @@ def test_metrics_are_what_metrics_json_holds(short, tmp_path):
     sim = Simulation(short)
     sim.run()
     sim.write_outputs(tmp_path)
-    text = (tmp_path / "metrics.json").read_text()
-    assert sim.metrics_json() == text
-    assert sim.metrics() == json.loads(text)
+    written = json.loads((tmp_path / "metrics.json").read_text())
+    # A written set's metrics.json also lists the set's other files (name, size, SHA-256).
+    manifest = written.pop("files")
+    assert sorted(f["name"] for f in manifest) == sorted(
+        p.name for p in tmp_path.iterdir() if p.name != "metrics.json" and not p.name.startswith(".")
+    )
+    assert json.loads(sim.metrics_json()) == written
+    assert sim.metrics() == written
     m = sim.metrics()
     assert m["emitted"]["count"] == sim.emitted()[0] == 2000
     assert m["time"] == pytest.approx(0.2)

@@ -239,9 +239,11 @@ class Simulation:
     def emitted(self) -> Tuple[int, float]:
         """_Particles emitted so far: ``(count, volume in m³)``."""
     def metrics(self) -> dict[str, Any]:
-        """The results so far, equal to what ``metrics.json`` holds."""
+        """The results so far, equal to what ``metrics.json`` holds (less its ``files``
+        manifest)."""
     def metrics_json(self) -> str:
-        """The exact text ``metrics.json`` would hold now."""
+        """The text ``metrics.json`` would hold now, without the ``files`` manifest that only a
+        written set of outputs has."""
     def write_outputs(self, directory: Union[str, "os.PathLike[str]", None] = None) -> list[str]:
         """Writes every output into ``directory`` (the scenario's ``output.directory`` when
         None) as ``spraysim run -o DIRECTORY`` does, all or nothing; returns the paths."""

@@ -187,12 +187,13 @@ impl PySimulation {
     }
 
     /// The results so far as a dictionary equal to what `metrics.json` holds (keys, units and
-    /// values; see the README's Outputs section).
+    /// values; see the README's Outputs section), less its `files` manifest.
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         convert::json_to_py(py, &self.metrics_json()?)
     }
 
-    /// The exact text `metrics.json` would hold now.
+    /// The text `metrics.json` would hold now, without the `files` manifest that only a
+    /// written set of outputs has.
     fn metrics_json(&self) -> PyResult<String> {
         spraysim::output::metrics_json(&self.held.sim).map_err(|e| output_error(&e))
     }
