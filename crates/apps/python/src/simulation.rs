@@ -274,10 +274,11 @@ impl PySimulation {
         views::particles(py, &self.held.sim)
     }
 
-    /// Deposited thickness on a target (name or index), m: a (rows, cols) float64 array. Row 0
-    /// is the target's bottom edge (rows grow along its `up`), columns grow along `right` = `up ×
-    /// normal` (the viewer's right, looking at the target from the spray side): plot it with
-    /// `origin="lower"`. With `copy=False` (the default) a read-only view of the simulation's
+    /// Deposited thickness on a target (name or index), m. On a rectangle a (rows, cols)
+    /// float64 array: row 0 is the target's bottom edge (rows grow along its `up`), columns grow
+    /// along `right` = `up × normal` (the viewer's right, looking at the target from the spray
+    /// side): plot it with `origin="lower"`. On a cylinder shell the unrolled (along the axis,
+    /// around it) map; on a mesh one value per triangle, in the file's order. With `copy=False` (the default) a read-only view of the simulation's
     /// own memory, no copy: it shows later steps as they happen (do not read it while another
     /// thread runs this simulation); `copy=True` gives an independent array.
     #[pyo3(signature = (target, copy = false))]
@@ -289,7 +290,7 @@ impl PySimulation {
         views::grid(slf, target, copy, |t| t.surface.thickness())
     }
 
-    /// Impacts per cell (stuck or rebounded) on a target: a (rows, cols) uint32 array laid out
+    /// Impacts per cell (stuck or rebounded) on a target: a uint32 array laid out
     /// as `thickness`, with the same `copy` choice.
     #[pyo3(signature = (target, copy = false))]
     fn hits<'py>(

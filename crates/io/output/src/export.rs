@@ -32,7 +32,8 @@ impl Deposit {
     pub fn of(t: &Target, max_cells: usize, map: Colormap) -> Deposit {
         let s = &t.surface;
         let mesh = s.mesh(true, max_cells);
-        let block = |cell: u32| block_cells(&s.layout(), &mesh, cell);
+        let layout = s.layout();
+        let block = |cell: u32| block_cells(&layout, &mesh, cell);
         let (thickness, areas) = (s.thickness(), |c: u32| s.cell_area(c));
         let mean = |cells: &[u32], values: &dyn Fn(u32) -> f64| match cells {
             [one] => values(*one),

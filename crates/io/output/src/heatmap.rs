@@ -94,8 +94,8 @@ fn draw_text(img: &mut RgbImage, x: i64, y: i64, s: i64, text: &str) {
     }
 }
 
-/// A tick value with as many decimals as its range needs.
-fn tick_label(v: f64, max: f64) -> String {
+/// A tick value with as many decimals as its range needs (`max`: the scale's top).
+pub fn tick_label(v: f64, max: f64) -> String {
     let decimals = if max >= 100.0 {
         0
     } else if max >= 10.0 {

@@ -52,20 +52,6 @@ fn rgba(c: image::Rgb<u8>) -> Rgba<u8> {
     Rgba([c.0[0], c.0[1], c.0[2], 255])
 }
 
-/// A tick value with as many decimals as its range needs.
-fn tick(v: f64, max: f64) -> String {
-    let decimals = if max >= 100.0 {
-        0
-    } else if max >= 10.0 {
-        1
-    } else if max >= 1.0 {
-        2
-    } else {
-        3
-    };
-    format!("{v:.decimals$}")
-}
-
 /// The caption's text: scenario, time, particles in flight (and drawn, when sampled).
 pub fn caption(scene: &Scene) -> String {
     let c = &scene.caption;
@@ -96,7 +82,7 @@ pub fn annotate(img: &mut RgbaImage, scene: &Scene) {
 /// A vertical colour bar at the right edge with five ticks and its label above it.
 fn colour_bar(img: &mut RgbaImage, s: i64, label: &str, map: Colormap, max: f64) {
     let (w, h) = (i64::from(img.width()), i64::from(img.height()));
-    let labels: Vec<String> = (0..=4).map(|i| tick(max * f64::from(i) / 4.0, max)).collect();
+    let labels: Vec<String> = (0..=4).map(|i| heatmap::tick_label(max * f64::from(i) / 4.0, max)).collect();
     let label_w = labels.iter().map(String::len).max().unwrap_or(1) as i64 * 8 * s;
     let bar_w = 12 * s;
     let box_w = (bar_w + 6 * s + label_w).max(label.chars().count() as i64 * 8 * s) + 16 * s;
@@ -150,6 +136,6 @@ fn speed_bar(img: &mut RgbaImage, s: i64, vmax: f64) {
         );
     }
     text(img, 8 * s, y + 10 * s, s, "0", INK);
-    let top = tick(vmax, vmax);
+    let top = heatmap::tick_label(vmax, vmax);
     text(img, 8 * s + bar_w - top.len() as i64 * 8 * s, y + 10 * s, s, &top, INK);
 }
