@@ -144,36 +144,41 @@ impl ThicknessStats {
         tolerance: Option<[f64; 2]>,
     ) -> ThicknessStats {
         let t = surface.thickness();
-        let cells: Vec<(f64, f64)> = (0..t.len() as u32)
-            .filter(|&c| margin <= 0.0 || surface.edge_distance(c) >= margin)
-            .map(|c| (t[c as usize], surface.cell_area(c)))
-            .filter(|&(_, a)| a > 0.0)
-            .collect();
-        let area: f64 = cells.iter().map(|c| c.1).sum();
-        let share = |keep: &dyn Fn(f64) -> bool| {
-            if area > 0.0 { cells.iter().filter(|c| keep(c.0)).map(|c| c.1).sum::<f64>() / area } else { 0.0 }
+        // Two passes over the cells, without a copy of them (a large grid's would cost more
+        // than the sums); each sum runs in cell order, as one pass per figure would.
+        let cells = || {
+            (0..t.len() as u32)
+                .filter(move |&c| margin <= 0.0 || surface.edge_distance(c) >= margin)
+                .map(move |c| (t[c as usize], surface.cell_area(c)))
+                .filter(|&(_, a)| a > 0.0)
         };
-        let mean = if area > 0.0 { cells.iter().map(|(x, a)| x * a).sum::<f64>() / area } else { 0.0 };
-        let var = if area > 0.0 {
-            cells.iter().map(|(x, a)| (x - mean).powi(2) * a).sum::<f64>() / area
-        } else {
-            0.0
-        };
+        let covered = |x: f64| x > 0.0 && x >= threshold;
+        let within = |x: f64| tolerance.is_some_and(|[lo, hi]| (lo..=hi).contains(&x));
+        let (mut area, mut weighted, mut on, mut inside, mut n) = (0.0, 0.0, 0.0, 0.0, 0_usize);
+        let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (x, a) in cells() {
+            (area, weighted, n) = (area + a, weighted + x * a, n + 1);
+            (min, max) = (min.min(x), max.max(x));
+            on += if covered(x) { a } else { 0.0 };
+            inside += if within(x) { a } else { 0.0 };
+        }
+        let share = |part: f64| if area > 0.0 { part / area } else { 0.0 };
+        let mean = share(weighted);
+        let var = share(cells().map(|(x, a)| (x - mean).powi(2) * a).sum::<f64>());
         let std_dev = var.sqrt();
-        let (min, max) =
-            cells.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| (l.min(c.0), h.max(c.0)));
+        let empty = n == 0;
         ThicknessStats {
             mean,
             std_dev,
             cv: if mean > 0.0 { std_dev / mean } else { 0.0 },
-            min: if cells.is_empty() { 0.0 } else { min },
-            max: if cells.is_empty() { 0.0 } else { max },
+            min: if empty { 0.0 } else { min },
+            max: if empty { 0.0 } else { max },
             coverage_threshold: threshold,
-            covered_fraction: share(&|x| x > 0.0 && x >= threshold),
+            covered_fraction: share(on),
             area,
             margin,
             tolerance,
-            in_tolerance: tolerance.map(|[lo, hi]| share(&|x| (lo..=hi).contains(&x))),
+            in_tolerance: tolerance.map(|_| share(inside)),
         }
     }
 }

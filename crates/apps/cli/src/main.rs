@@ -158,6 +158,9 @@ enum Command {
         /// Timed runs per table row (after one untimed warm-up); the median is reported.
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
         repeats: u32,
+        /// Short variants (0.2 s of spraying each) timed for the optimisation-loop figure.
+        #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+        variants: u32,
     },
 }
 
@@ -263,9 +266,10 @@ fn dispatch(command: Command) -> Result<()> {
         }
         Command::Resume { dir, threads, quiet } => resume(&dir, threads, quiet),
         Command::Check { scenario, set, resolved } => check(&scenario, &set, resolved),
-        Command::Bench { spawn_rate, duration, threads, repeats } => {
+        Command::Bench { spawn_rate, duration, threads, repeats, variants } => {
+            let (repeats, variants) = (repeats as usize, variants as usize);
             let settings =
-                spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats: repeats as usize };
+                spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats, variants };
             spraysim_bench::run_matrix(&settings, &mut std::io::stdout().lock())?;
             render::bench_line()
         }

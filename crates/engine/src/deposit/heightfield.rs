@@ -2,16 +2,19 @@
 //! where a path enters the layer.
 
 use super::Chart;
+use super::pyramid::MaxPyramid;
 use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
 
-/// Side of the blocks whose maximum thickness is kept, cells.
-const BLOCK: usize = 16;
+/// Pyramid level at which the layer march first tries to skip samples: blocks of 16 × 16
+/// cells. It climbs a level after each skip and descends after each failed attempt.
+const SKIP_LEVEL: usize = 4;
 
-/// Samples of the layer march skipped at once above low blocks. The march steps at most half a
-/// cell along the face, so `2 BLOCK − 1` steps move less than one block: the samples skipped
-/// stay within the 3 × 3 blocks around the first.
-const SKIP_RUN: usize = 2 * BLOCK - 1;
+/// Pyramid level whose blocks (16 × 16 cells) bound where the layer march starts.
+const START_LEVEL: usize = 4;
+
+/// Lowest level the march skips at (runs of 7 samples: fewer are not worth the look).
+const SKIP_FLOOR: usize = 2;
 
 /// Clearance above the blocks' maximum required to skip, m: far above the rounding of the
 /// heights, so that no skipped sample could have tested inside.
@@ -34,11 +37,9 @@ pub struct HeightField {
     hits: Vec<u32>,
     /// Upper bound of the thickness, m (never lowered by removals).
     max_thickness: f64,
-    /// Upper bound of the thickness per block of `BLOCK × BLOCK` cells, m: bounds the layer
-    /// under a segment without visiting its cells.
-    block_max: Vec<f64>,
-    /// Blocks per row.
-    block_cols: usize,
+    /// Upper bounds of the thickness over blocks of every power-of-two size, m: bound the
+    /// layer under a path without visiting its cells.
+    bounds: MaxPyramid,
     /// Cell offsets `(col, row)` of the deposit footprint.
     splat: Vec<(isize, isize)>,
     /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
@@ -46,6 +47,7 @@ pub struct HeightField {
     reach: (usize, usize),
     /// The cells whose thickness changed since the last `take_changed`.
     changed: ChangedCells,
+
     /// Per cell, true where the surface is cut away (an opening); empty when none is.
     hole: Vec<bool>,
     /// The columns are periodic (a full turn of a shell).
@@ -77,8 +79,7 @@ impl HeightField {
             thickness: vec![0.0; cols * rows],
             hits: vec![0; cols * rows],
             max_thickness: 0.0,
-            block_max: vec![0.0; cols.div_ceil(BLOCK) * rows.div_ceil(BLOCK)],
-            block_cols: cols.div_ceil(BLOCK),
+            bounds: MaxPyramid::new(cols, rows),
             reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
             changed: ChangedCells::new(cols * rows),
@@ -92,7 +93,7 @@ impl HeightField {
         e.list(&self.thickness, |e, &x| e.f64(x));
         e.list(&self.hits, |e, &x| e.u32(x));
         e.f64(self.max_thickness);
-        e.list(&self.block_max, |e, &x| e.f64(x));
+        self.bounds.save_state(e);
         e.list(&self.changed.0, |e, &x| e.u64(x));
     }
 
@@ -102,7 +103,7 @@ impl HeightField {
         self.thickness = d.list_of(n, "a heightfield's thickness", 8, Dec::f64)?;
         self.hits = d.list_of(n, "a heightfield's impacts", 4, Dec::u32)?;
         self.max_thickness = d.f64()?;
-        self.block_max = d.list_of(self.block_max.len(), "a heightfield's blocks", 8, Dec::f64)?;
+        self.bounds.load_state(d)?;
         self.changed.0 = d.list_of(self.changed.0.len(), "a heightfield's changes", 8, Dec::u64)?;
         Ok(())
     }
@@ -170,8 +171,7 @@ impl HeightField {
 
     fn raise_bounds(&mut self, c: usize, t: f64) {
         self.max_thickness = self.max_thickness.max(t);
-        let b = &mut self.block_max[((c / self.cols) / BLOCK) * self.block_cols + (c % self.cols) / BLOCK];
-        *b = b.max(t);
+        self.bounds.raise(c % self.cols, c / self.cols, t);
     }
 
     #[inline]
@@ -298,33 +298,60 @@ impl HeightField {
         (gu, gv)
     }
 
-    /// Largest block maximum over the 3 × 3 blocks around the one under `p`, m.
-    fn block_max_around(&self, chart: &impl Chart, p: DVec3) -> f64 {
+    /// Upper bound of the thickness over the cells in columns `c0..=c1` and rows `r0..=r1`
+    /// (clamped to the grid), m, in time independent of the rectangle's size.
+    #[inline]
+    pub fn max_in(&self, cols: (usize, usize), rows: (usize, usize)) -> f64 {
+        let (c1, r1) = (cols.1.min(self.cols - 1), rows.1.min(self.rows - 1));
+        self.bounds.max_in(&self.thickness, self.cols, (cols.0.min(c1), c1), (rows.0.min(r1), r1))
+    }
+
+    /// Largest bound over the 3 × 3 nodes of pyramid level `k` (blocks of `2ᵏ` cells) around
+    /// the one under `p`, m.
+    fn max_around(&self, chart: &impl Chart, p: DVec3, k: usize) -> f64 {
         let (u, v, _) = chart.local(p);
         let cell = self.cell_at(u, v) as usize;
-        let (r, c) = ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK);
-        let block_rows = self.block_max.len() / self.block_cols;
+        let (r, c) = ((cell / self.cols) >> k, (cell % self.cols) >> k);
+        let (rr, cc) = ((self.rows - 1) >> k, (self.cols - 1) >> k);
         let mut top = 0.0_f64;
-        for rr in r.saturating_sub(1)..=(r + 1).min(block_rows - 1) {
-            for cc in c.saturating_sub(1)..=(c + 1).min(self.block_cols - 1) {
-                top = top.max(self.block_max[rr * self.block_cols + cc]);
+        for row in r.saturating_sub(1)..=(r + 1).min(rr) {
+            for col in c.saturating_sub(1)..=(c + 1).min(cc) {
+                top = top.max(self.bounds.node(k, col, row));
             }
         }
         top
     }
 
-    /// Largest block maximum over the blocks that the segment's footprint touches, m.
-    fn block_max_under(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> f64 {
-        let block = |p: DVec3| {
+    /// An upper bound of the layer under the segment's footprint (the rectangle of cells
+    /// between its ends), m.
+    fn max_under(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> f64 {
+        let at = |p: DVec3| {
             let (u, v, _) = chart.local(p);
             let cell = self.cell_at(u, v) as usize;
-            ((cell / self.cols) / BLOCK, (cell % self.cols) / BLOCK)
+            (cell % self.cols, cell / self.cols)
         };
-        let ((r0, c0), (r1, c1)) = (block(p0), block(p1));
+        let ((c0, r0), (c1, r1)) = (at(p0), at(p1));
+        self.max_in((c0.min(c1), c0.max(c1)), (r0.min(r1), r0.max(r1)))
+    }
+
+    /// Largest bound over the blocks of [`START_LEVEL`] (or the whole grid, if smaller) that
+    /// the segment's footprint touches, m.
+    fn blocks_under(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> f64 {
+        let height = self.bounds.height();
+        if height < START_LEVEL {
+            // A grid smaller than a block: its root (or its single cell) bounds it all.
+            return if height == 0 { self.max_thickness } else { self.bounds.node(height, 0, 0) };
+        }
+        let at = |p: DVec3| {
+            let (u, v, _) = chart.local(p);
+            let cell = self.cell_at(u, v) as usize;
+            ((cell % self.cols) >> START_LEVEL, (cell / self.cols) >> START_LEVEL)
+        };
+        let ((c0, r0), (c1, r1)) = (at(p0), at(p1));
         let mut top = 0.0_f64;
         for r in r0.min(r1)..=r0.max(r1) {
             for c in c0.min(c1)..=c0.max(c1) {
-                top = top.max(self.block_max[r * self.block_cols + c]);
+                top = top.max(self.bounds.node(START_LEVEL, c, r));
             }
         }
         top
@@ -343,26 +370,27 @@ impl HeightField {
         if self.max_thickness <= 0.0 || h0 <= 0.0 || h0.min(h1) - chart.sag(p0, p1) > self.max_thickness {
             return None;
         }
-        self.layer_contact_near(chart, p0, p1, h0, h1)
+        self.layer_contact_near(chart, (p0, p1), (h0, h1), true)
     }
 
     /// [`HeightField::layer_contact`] for a path that reaches below the thickest cell, with
-    /// `h0` and `h1` its heights above the surface at its ends, m.
+    /// `h0` and `h1` its heights above the surface at its ends, m; `skip` lets the march pass
+    /// over runs of samples above the layer (the answer is the same either way).
     #[inline(never)]
     fn layer_contact_near(
         &self,
         chart: &impl Chart,
-        p0: DVec3,
-        p1: DVec3,
-        h0: f64,
-        h1: f64,
+        (p0, p1): (DVec3, DVec3),
+        (h0, h1): (f64, f64),
+        skip: bool,
     ) -> Option<LayerContact> {
-        // The thickest layer under the segment, from the blocks its footprint covers.
-        let top = self.block_max_under(chart, p0, p1);
         let sag = chart.sag(p0, p1);
-        if h0.min(h1) - sag > top {
+        if h0.min(h1) - sag > self.max_under(chart, p0, p1) {
             return None;
         }
+        // The thickest layer under the segment, from the blocks of 16 × 16 cells its footprint
+        // covers: where the march starts (a tighter bound would move its samples).
+        let top = self.blocks_under(chart, p0, p1);
         // The part of the segment within the slab between the surface and (just above) the
         // thickest cell, so that a segment from above starts outside the layer even over its
         // peak. On a curved surface the chord may dip by `sag` between its ends: the whole
@@ -393,40 +421,50 @@ impl HeightField {
         let mut was_inside = inside(s_start).is_some();
         let mut prev = s_start;
         let mut k = 1;
+        let mut level = SKIP_LEVEL.min(self.bounds.height());
         while k <= n {
             let s = sample(k);
-            // Skip a run of samples that all pass above the layer of the blocks around this one:
-            // they would all test outside, so the march finds the same entry, only sooner.
-            let run = SKIP_RUN.min(n - k);
-            if fine && !was_inside && run >= 4 {
-                let bound = self.block_max_around(chart, p0.lerp(p1, s)) + SKIP_MARGIN;
+            // Skip a run of samples above the layer of the pyramid's nodes around this one: all
+            // would test outside. A run of `2ᵏ⁺¹ − 1` samples half a cell apart stays within the
+            // 3 × 3 nodes of level `k` around its first, and on a flat face its ends bound it.
+            let run = ((2usize << level) - 1).min(n - k);
+            if skip && fine && !was_inside && level >= SKIP_FLOOR && run >= 4 {
+                let bound = self.max_around(chart, p0.lerp(p1, s), level) + SKIP_MARGIN;
                 if height(s) > bound && height(sample(k + run)) > bound {
                     prev = sample(k + run);
                     k += run + 1;
+                    level = (level + 1).min(self.bounds.height());
                     continue;
                 }
+                level -= 1;
             }
             let now = inside(s).is_some();
             if now && !was_inside {
                 let (a, b) = bisect(prev, s, |m| inside(m).is_some());
                 // `b` stays inside throughout the bisection.
                 let entered = inside(b)?;
-                let (gu, gv) = self.gradient(entered);
-                let (u, v, _) = chart.local(p0.lerp(p1, b));
-                let (n, right, up) = chart.frame(u, v);
-                let normal = (n - right * gu - up * gv).normalize();
                 // Through the side of a taller column, the material settles in the column the
                 // particle came down (as in ballistic deposition); stacking it on the taller one
                 // would let every column that gets ahead catch its neighbours' flux and grow
                 // into a needle.
                 let cell = column(a).map_or(entered, |(c, _)| c);
-                return Some(LayerContact { s: b, point: p0.lerp(p1, b), normal, cell });
+                return Some(self.contact(chart, p0.lerp(p1, b), b, entered, cell));
             }
             was_inside = now;
             prev = s;
             k += 1;
         }
         None
+    }
+
+    /// The contact at `point` (fraction `s` of the path), entering cell `entered` and settling
+    /// in `cell`: its normal is the layer's, from the thickness gradient.
+    fn contact(&self, chart: &impl Chart, point: DVec3, s: f64, entered: u32, cell: u32) -> LayerContact {
+        let (gu, gv) = self.gradient(entered);
+        let (u, v, _) = chart.local(point);
+        let (n, right, up) = chart.frame(u, v);
+        let normal = (n - right * gu - up * gv).normalize();
+        LayerContact { s, point, normal, cell }
     }
 
     /// Σ thickness × cell area: the volume held by the field, m³.
@@ -504,6 +542,42 @@ mod tests {
         assert_eq!(f.cell_at(-0.99, 0.49), 4);
         assert_eq!(f.cell_at(1.0, 0.5), 7, "the far edge belongs to the last cell");
         assert_eq!(f.cell_at(-0.1, 0.1), 5);
+    }
+
+    /// The pyramid lets the march skip runs of samples; skipping must find the very contact
+    /// the full march finds, on a rough layer, for steep and grazing paths alike.
+    #[test]
+    fn skipping_over_the_pyramid_finds_the_same_contact_as_the_full_march() {
+        use crate::collision::Face;
+        let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
+        let mut f = HeightField::new(1.0, 1.0, 300, 200, 0.004);
+        let mut x: u64 = 7;
+        let mut next = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // Sparse tall spikes over a thin film: most of the path lies just above the film.
+        for _ in 0..3000 {
+            let cell = (next() * 60_000.0) as u32;
+            f.deposit(cell, 2e-9 * next());
+        }
+        for _ in 0..40 {
+            let cell = (next() * 60_000.0) as u32;
+            f.deposit(cell, 2e-7 * next());
+        }
+        let (mut met, top) = (0, f.max_thickness());
+        for _ in 0..4000 {
+            let p0 = DVec3::new(next() - 0.5, next() - 0.5, top * (0.5 + 2.0 * next()));
+            let p1 = DVec3::new(next() - 0.5, next() - 0.5, top * (1.5 * next() - 0.3));
+            let (h0, h1) = (p0.z, p1.z);
+            if h0 <= 0.0 {
+                continue;
+            }
+            let fast = f.layer_contact_near(&face, (p0, p1), (h0, h1), true);
+            assert_eq!(fast, f.layer_contact_near(&face, (p0, p1), (h0, h1), false), "{p0} → {p1}");
+            met += usize::from(fast.is_some());
+        }
+        assert!(met > 100, "only {met} contacts");
     }
 
     #[test]

@@ -13,6 +13,7 @@ mod grid;
 mod heightfield;
 mod mesh;
 mod openings;
+mod pyramid;
 
 pub use chart::{Chart, ShellChart};
 pub use grid::{CylinderSurface, GridSurface, RectangleSurface};

@@ -34,7 +34,7 @@ use std::sync::Arc;
 
 /// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
 /// the order in which records are applied, never depends on the thread count.
-const CHUNK: usize = 4096;
+const CHUNK: usize = 1024;
 
 /// Why a simulation could not be set up.
 #[derive(Debug, thiserror::Error)]

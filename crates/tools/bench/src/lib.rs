@@ -190,6 +190,42 @@ pub fn time_cohesion(side: usize, repeats: usize) -> f64 {
     start.elapsed().as_secs_f64() / repeats as f64
 }
 
+/// Particles per second brought to their final fate by the paper-equivalent implementation
+/// (single-threaded C++: forward Euler, every obstacle tested at every step, no broad phase) on
+/// the reference scene at 10⁶ particles/s for 0.5 s, recorded on the 2-core development machine
+/// (built with `g++ -O3 -march=native`): the yardstick the table's last column divides by.
+pub const PAPER_BASELINE_PARTICLES_PER_SECOND: f64 = 5.56e4;
+
+/// Runs `count` short variants of the reference scene (0.2 s of spraying at its default rate,
+/// each with its own seed), as an optimisation loop would: each is parsed, built, run on one
+/// thread and reduced to its metrics, and the variants share `threads` workers (0: all cores).
+/// Returns variants per second of wall-clock time.
+pub fn short_variants(count: usize, threads: usize) -> Result<f64, BenchError> {
+    use rayon::prelude::*;
+    let base = ReferenceScene { duration: 0.2, ..ReferenceScene::default() }.scenario()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| BenchError::Settings(format!("cannot start {threads} worker threads: {e}")))?;
+    let start = Instant::now();
+    let emitted: Result<u64, BenchError> = pool.install(|| {
+        (0..count)
+            .into_par_iter()
+            .map(|i| {
+                let mut sim = base.with("simulation.seed", i as f64)?.build()?;
+                sim.set_threads(1)?;
+                sim.run(|_| {});
+                Ok(sim.metrics().emitted.count)
+            })
+            .sum()
+    });
+    let wall = start.elapsed().as_secs_f64();
+    if emitted? == 0 {
+        return Err(BenchError::Settings("the short variants emitted nothing".into()));
+    }
+    Ok(count as f64 / wall)
+}
+
 /// What one timed run measured.
 #[derive(Clone, Debug)]
 pub struct Measurement {
@@ -278,6 +314,8 @@ pub struct MatrixSettings {
     pub threads: usize,
     /// Timed runs per row (after one untimed warm-up); the median is reported.
     pub repeats: usize,
+    /// Short variants timed for the optimisation-loop figure.
+    pub variants: usize,
 }
 
 /// The reference scene and its scaling variants, each as a name, a scene and a thread count.
@@ -330,17 +368,18 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
     )?;
     writeln!(
         out,
-        "| run | wall [s] | particle-steps/s | particles/s to fate | real-time factor | peak RSS [MiB] |"
+        "| run | wall [s] | particle-steps/s | particles/s to fate | × paper baseline | real-time factor | peak RSS [MiB] |"
     )?;
-    writeln!(out, "|---|---:|---:|---:|---:|---:|")?;
+    writeln!(out, "|---|---:|---:|---:|---:|---:|---:|")?;
     for (name, scenario, threads) in runs {
         let r = measure_median(&scenario, threads, m.repeats)?;
         writeln!(
             out,
-            "| {name} | {:.3} | {:.3e} | {:.3e} | {:.3} | {:.0} |",
+            "| {name} | {:.3} | {:.3e} | {:.3e} | {:.1} | {:.3} | {:.0} |",
             r.wall,
             r.particle_steps_per_second(),
             r.particles_per_second(),
+            r.particles_per_second() / PAPER_BASELINE_PARTICLES_PER_SECOND,
             r.real_time_factor(),
             r.peak_rss as f64 / (1024.0 * 1024.0)
         )?;
@@ -351,6 +390,12 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
         "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s: {:.2} s wall time ({:.1}× real time)",
         r.wall,
         r.real_time_factor()
+    )?;
+    let variants = m.variants.max(1);
+    writeln!(
+        out,
+        "{variants} short variants of the reference scene (0.2 s each, one seed each, built, run and reduced to metrics): {:.1} per second",
+        short_variants(variants, all)?
     )?;
     let ms = 1e3 * time_cohesion(1024, 20);
     writeln!(out, "cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms")?;

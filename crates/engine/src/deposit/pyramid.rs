@@ -1,0 +1,127 @@
+//! A max-pyramid over a grid of thicknesses: level `k` holds, per block of `2ᵏ × 2ᵏ` cells,
+//! an upper bound of their thickness, so the layer under any rectangle of cells is bounded
+//! from at most four nodes, whatever the grid's resolution, and a cell that grows updates
+//! only the nodes it overtakes.
+
+use crate::checkpoint::{Dec, Enc, StateError};
+
+/// Upper bounds of a grid's cells by blocks of `2ᵏ × 2ᵏ` cells, `k ≥ 1` (level 0 is the grid
+/// itself, which the pyramid does not hold). Bounds only grow: removals leave them standing.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct MaxPyramid {
+    /// `levels[k - 1]`: nodes of level `k`, row-major.
+    levels: Vec<Vec<f64>>,
+    /// Nodes per row of each level.
+    cols: Vec<usize>,
+}
+
+impl MaxPyramid {
+    /// An all-zero pyramid over `cols × rows` cells, up to the single root.
+    pub(crate) fn new(cols: usize, rows: usize) -> MaxPyramid {
+        let mut p = MaxPyramid::default();
+        let (mut c, mut r) = (cols, rows);
+        while c > 1 || r > 1 {
+            (c, r) = (c.div_ceil(2), r.div_ceil(2));
+            p.levels.push(vec![0.0; c * r]);
+            p.cols.push(c);
+        }
+        p
+    }
+
+    /// Raises the bounds over cell `(col, row)` to at least `t` (m). Every node bounds its
+    /// children, so the climb stops at the first that already does.
+    #[inline]
+    pub(crate) fn raise(&mut self, col: usize, row: usize, t: f64) {
+        for (k, (level, &cols)) in self.levels.iter_mut().zip(&self.cols).enumerate() {
+            let node = &mut level[(row >> (k + 1)) * cols + (col >> (k + 1))];
+            if *node >= t {
+                return;
+            }
+            *node = t;
+        }
+    }
+
+    /// Levels above the grid: the root's level (0 for a single cell).
+    #[inline]
+    pub(crate) fn height(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// The bound of node `(col, row)` of level `k ≥ 1`.
+    #[inline]
+    pub(crate) fn node(&self, k: usize, col: usize, row: usize) -> f64 {
+        self.levels[k - 1][row * self.cols[k - 1] + col]
+    }
+
+    /// An upper bound of the cells in columns `c0..=c1` and rows `r0..=r1` of `cells` (the
+    /// grid, `cols` per row): the up to 2 × 2 nodes of the lowest level that covers the
+    /// rectangle with them.
+    #[inline]
+    pub(crate) fn max_in(
+        &self,
+        cells: &[f64],
+        cols: usize,
+        (c0, c1): (usize, usize),
+        (r0, r1): (usize, usize),
+    ) -> f64 {
+        let mut k = 0;
+        while (c1 >> k) - (c0 >> k) > 1 || (r1 >> k) - (r0 >> k) > 1 {
+            k += 1;
+        }
+        let mut top = 0.0_f64;
+        for r in (r0 >> k)..=(r1 >> k) {
+            for c in (c0 >> k)..=(c1 >> k) {
+                top = top.max(if k == 0 { cells[r * cols + c] } else { self.node(k, c, r) });
+            }
+        }
+        top
+    }
+
+    /// Writes every level.
+    pub(crate) fn save_state(&self, e: &mut Enc) {
+        for level in &self.levels {
+            e.list(level, |e, &x| e.f64(x));
+        }
+    }
+
+    /// Reads what [`MaxPyramid::save_state`] wrote, over a pyramid of the same size.
+    pub(crate) fn load_state(&mut self, d: &mut Dec<'_>) -> Result<(), StateError> {
+        for level in &mut self.levels {
+            *level = d.list_of(level.len(), "a heightfield's bounds", 8, Dec::f64)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_rectangle_is_bounded_tightly_enough_and_never_below_a_cell() {
+        // 37 × 21 cells: odd sizes, so partial blocks at the edges are exercised.
+        let (cols, rows) = (37, 21);
+        let mut cells = vec![0.0; cols * rows];
+        let mut p = MaxPyramid::new(cols, rows);
+        let mut x: u64 = 12345;
+        for _ in 0..400 {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let c = (x >> 33) as usize % cells.len();
+            cells[c] += ((x >> 11) % 1000) as f64 * 1e-6;
+            p.raise(c % cols, c / cols, cells[c]);
+        }
+        for (c0, c1, r0, r1) in [(0, 36, 0, 20), (3, 3, 5, 5), (5, 17, 2, 9), (30, 36, 19, 20), (8, 9, 0, 20)]
+        {
+            let exact =
+                (r0..=r1).flat_map(|r| (c0..=c1).map(move |c| (r, c))).map(|(r, c)| cells[r * cols + c]);
+            let exact = exact.fold(0.0_f64, f64::max);
+            let bound = p.max_in(&cells, cols, (c0, c1), (r0, r1));
+            assert!(bound >= exact, "{bound} < {exact}");
+            // The nodes used cover at most twice the rectangle along each axis plus a block:
+            // the bound is the exact maximum over that region.
+            assert!(bound <= cells.iter().copied().fold(0.0, f64::max));
+        }
+        // A single cell is answered from the grid itself.
+        assert_eq!(p.max_in(&cells, cols, (4, 4), (7, 7)), cells[7 * cols + 4]);
+    }
+}
