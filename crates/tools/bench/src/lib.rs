@@ -212,7 +212,7 @@ pub fn short_variants(count: usize, threads: usize) -> Result<f64, BenchError> {
         (0..count)
             .into_par_iter()
             .map(|i| {
-                let mut sim = base.with("simulation.seed", i as f64)?.build()?;
+                let mut sim = base.with("simulation.seed", i as i64)?.build()?;
                 sim.set_threads(1)?;
                 sim.run(|_| {});
                 Ok(sim.metrics().emitted.count)
