@@ -47,7 +47,6 @@ pub struct HeightField {
     reach: (usize, usize),
     /// The cells whose thickness changed since the last `take_changed`.
     changed: ChangedCells,
-
     /// Per cell, true where the surface is cut away (an opening); empty when none is.
     hole: Vec<bool>,
     /// The columns are periodic (a full turn of a shell).
@@ -298,20 +297,25 @@ impl HeightField {
         (gu, gv)
     }
 
-    /// Upper bound of the thickness over the cells in columns `c0..=c1` and rows `r0..=r1`
-    /// (clamped to the grid), m, in time independent of the rectangle's size.
+    /// Column and row of the cell under `p`.
     #[inline]
-    pub fn max_in(&self, cols: (usize, usize), rows: (usize, usize)) -> f64 {
-        let (c1, r1) = (cols.1.min(self.cols - 1), rows.1.min(self.rows - 1));
-        self.bounds.max_in(&self.thickness, self.cols, (cols.0.min(c1), c1), (rows.0.min(r1), r1))
+    fn cell_of(&self, chart: &impl Chart, p: DVec3) -> (usize, usize) {
+        let (u, v, _) = chart.local(p);
+        let cell = self.cell_at(u, v) as usize;
+        (cell % self.cols, cell / self.cols)
+    }
+
+    /// The segment's footprint: the columns and the rows of cells between its ends.
+    fn footprint(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> ((usize, usize), (usize, usize)) {
+        let ((c0, r0), (c1, r1)) = (self.cell_of(chart, p0), self.cell_of(chart, p1));
+        ((c0.min(c1), c0.max(c1)), (r0.min(r1), r0.max(r1)))
     }
 
     /// Largest bound over the 3 × 3 nodes of pyramid level `k` (blocks of `2ᵏ` cells) around
     /// the one under `p`, m.
     fn max_around(&self, chart: &impl Chart, p: DVec3, k: usize) -> f64 {
-        let (u, v, _) = chart.local(p);
-        let cell = self.cell_at(u, v) as usize;
-        let (r, c) = ((cell / self.cols) >> k, (cell % self.cols) >> k);
+        let (c, r) = self.cell_of(chart, p);
+        let (r, c) = (r >> k, c >> k);
         let (rr, cc) = ((self.rows - 1) >> k, (self.cols - 1) >> k);
         let mut top = 0.0_f64;
         for row in r.saturating_sub(1)..=(r + 1).min(rr) {
@@ -322,35 +326,17 @@ impl HeightField {
         top
     }
 
-    /// An upper bound of the layer under the segment's footprint (the rectangle of cells
-    /// between its ends), m.
-    fn max_under(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> f64 {
-        let at = |p: DVec3| {
-            let (u, v, _) = chart.local(p);
-            let cell = self.cell_at(u, v) as usize;
-            (cell % self.cols, cell / self.cols)
-        };
-        let ((c0, r0), (c1, r1)) = (at(p0), at(p1));
-        self.max_in((c0.min(c1), c0.max(c1)), (r0.min(r1), r0.max(r1)))
-    }
-
     /// Largest bound over the blocks of [`START_LEVEL`] (or the whole grid, if smaller) that
-    /// the segment's footprint touches, m.
-    fn blocks_under(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> f64 {
+    /// hold cells of columns `cols` and rows `rows`, m.
+    fn blocks_over(&self, cols: (usize, usize), rows: (usize, usize)) -> f64 {
         let height = self.bounds.height();
         if height < START_LEVEL {
             // A grid smaller than a block: its root (or its single cell) bounds it all.
             return if height == 0 { self.max_thickness } else { self.bounds.node(height, 0, 0) };
         }
-        let at = |p: DVec3| {
-            let (u, v, _) = chart.local(p);
-            let cell = self.cell_at(u, v) as usize;
-            ((cell % self.cols) >> START_LEVEL, (cell / self.cols) >> START_LEVEL)
-        };
-        let ((c0, r0), (c1, r1)) = (at(p0), at(p1));
         let mut top = 0.0_f64;
-        for r in r0.min(r1)..=r0.max(r1) {
-            for c in c0.min(c1)..=c0.max(c1) {
+        for r in rows.0 >> START_LEVEL..=rows.1 >> START_LEVEL {
+            for c in cols.0 >> START_LEVEL..=cols.1 >> START_LEVEL {
                 top = top.max(self.bounds.node(START_LEVEL, c, r));
             }
         }
@@ -385,12 +371,13 @@ impl HeightField {
         skip: bool,
     ) -> Option<LayerContact> {
         let sag = chart.sag(p0, p1);
-        if h0.min(h1) - sag > self.max_under(chart, p0, p1) {
+        let (cols, rows) = self.footprint(chart, p0, p1);
+        if h0.min(h1) - sag > self.bounds.max_in(&self.thickness, self.cols, cols, rows) {
             return None;
         }
         // The thickest layer under the segment, from the blocks of 16 × 16 cells its footprint
         // covers: where the march starts (a tighter bound would move its samples).
-        let top = self.blocks_under(chart, p0, p1);
+        let top = self.blocks_over(cols, rows);
         // The part of the segment within the slab between the surface and (just above) the
         // thickest cell, so that a segment from above starts outside the layer even over its
         // peak. On a curved surface the chord may dip by `sag` between its ends: the whole

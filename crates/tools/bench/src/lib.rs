@@ -206,7 +206,7 @@ pub fn short_variants(count: usize, threads: usize) -> Result<f64, BenchError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| BenchError::Settings(format!("cannot start {threads} worker threads: {e}")))?;
+        .map_err(|e| SetupError::Threads { threads, message: e.to_string() })?;
     let start = Instant::now();
     let emitted: Result<u64, BenchError> = pool.install(|| {
         (0..count)
