@@ -402,8 +402,16 @@ impl Simulation {
         let c = self.config();
         let s = &t.surface;
         let count = s.thickness().len() as u32;
-        let area: f64 = (0..count).map(|k| s.cell_area(k)).sum::<f64>().max(f64::MIN_POSITIVE);
-        // Area-weighted shares and means over the whole surface.
+        // The figures every target has, in one pass over the cells (each sum in cell order).
+        let (mut area, mut at_risk, mut failed) = (0.0, 0.0, 0.0);
+        for (k, &mask) in (0..count).zip(&t.failure_mask) {
+            let a = s.cell_area(k);
+            area += a;
+            at_risk += if mask == 1 { a } else { 0.0 };
+            failed += if mask == 2 { a } else { 0.0 };
+        }
+        let area = area.max(f64::MIN_POSITIVE);
+        // Area-weighted shares and means over the whole surface (for the optional figures).
         let share = |keep: &dyn Fn(usize) -> bool| {
             (0..count).filter(|&k| keep(k as usize)).map(|k| s.cell_area(k)).sum::<f64>() / area
         };
@@ -442,8 +450,8 @@ impl Simulation {
             thickness: ThicknessStats::of(s, c.material.coverage_threshold, tc.margin, tc.tolerance),
             received: t.received,
             detached: t.detached,
-            at_risk_fraction: share(&|k| t.failure_mask[k] == 1),
-            failed_fraction: share(&|k| t.failure_mask[k] == 2),
+            at_risk_fraction: at_risk / area,
+            failed_fraction: failed / area,
             hits_per_cm2: hits / (area * 1e4),
             erosion,
             sag_risk_fraction,

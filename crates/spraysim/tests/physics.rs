@@ -317,6 +317,87 @@ fn waypoints_move_the_spot_and_switch_the_spray() {
     assert_eq!(column_sum(180), 0.0);
 }
 
+/// Forward Euler and the exact (closed-form, lazily stepped) integrator describe the same
+/// physics: fates, rebound ratio, where the impacts land and how thick the layer grows agree
+/// within the spread of the particles' random draws.
+fn assert_integrators_agree(e: &Simulation, x: &Simulation) {
+    let (me, mx) = (e.metrics(), x.metrics());
+    for m in [&me, &mx] {
+        assert_conserved(m);
+    }
+    assert_layer_volumes(e);
+    assert_layer_volumes(x);
+    let n = me.emitted.count as f64;
+    assert_eq!(me.emitted.count, mx.emitted.count, "the nozzle emits the same particles");
+    // Shares of the emitted particles: binomial spread, 5 standard deviations.
+    let shares = |m: &Metrics| {
+        let mut v: Vec<(String, f64)> =
+            m.targets.iter().map(|t| (format!("stuck on {}", t.name), t.stuck.count as f64 / n)).collect();
+        v.push(("rebound ratio".into(), m.rebound_ratio.unwrap_or(0.0)));
+        v.push(("on obstacles".into(), m.fates.stuck_on_obstacles.count as f64 / n));
+        v.push(("left the domain".into(), m.fates.left_domain.count as f64 / n));
+        v.push(("in flight".into(), m.fates.in_flight.count as f64 / n));
+        v
+    };
+    for ((name, a), (_, b)) in shares(&me).into_iter().zip(shares(&mx)) {
+        let p = (a + b) / 2.0;
+        let tol = 5.0 * (2.0 * p * (1.0 - p) / n).sqrt() + 1e-9;
+        assert!((a - b).abs() <= tol, "{name}: Euler {a} vs exact {b} (± {tol})");
+    }
+    // Profiles of the first target in 16 bands across and 16 along: impact counts (Poisson;
+    // twice the variance for particles that strike more than once), and deposited volume in
+    // particles (Poisson in the stuck count).
+    use spraysim::deposit::{DepositSurface, Layout};
+    let volume = me.emitted.volume / n;
+    let (te, tx) = (&e.targets()[0].surface, &x.targets()[0].surface);
+    let Layout::Grid { rows, cols, .. } = te.layout() else { panic!("the first target is a grid") };
+    let bands = |s: &spraysim::deposit::Surface, by_column: bool| {
+        let (mut hits, mut layer) = ([0.0; 16], [0.0; 16]);
+        for k in 0..rows * cols {
+            let b = if by_column { (k % cols) * 16 / cols } else { (k / cols) * 16 / rows };
+            hits[b] += f64::from(s.hits()[k]);
+            layer[b] += s.thickness()[k] * s.cell_area(k as u32) / volume;
+        }
+        (hits, layer)
+    };
+    for by_column in [true, false] {
+        let ((he, ve), (hx, vx)) = (bands(te, by_column), bands(tx, by_column));
+        for k in 0..16 {
+            let tol = 5.0 * (2.0 * (he[k] + hx[k])).sqrt() + 1.0;
+            assert!(
+                (he[k] - hx[k]).abs() <= tol,
+                "impacts, band {k} (columns: {by_column}): {} vs {}",
+                he[k],
+                hx[k]
+            );
+            let tol = 5.0 * (ve[k] + vx[k]).sqrt() + 1.0;
+            assert!(
+                (ve[k] - vx[k]).abs() <= tol,
+                "layer, band {k} (columns: {by_column}): {} vs {}",
+                ve[k],
+                vx[k]
+            );
+        }
+    }
+    // Thickness statistics: the mean follows the stuck count; the spread of the cells (CV)
+    // within a tenth.
+    let (se, sx) = (&me.targets[0].thickness, &mx.targets[0].thickness);
+    let stuck = me.targets[0].stuck.count.max(1) as f64;
+    let tol = 5.0 * (2.0 / stuck).sqrt() * se.mean.max(sx.mean) + 1e-12;
+    assert!(
+        (se.mean - sx.mean).abs() <= tol,
+        "mean thickness: Euler {} vs exact {} (± {tol})",
+        se.mean,
+        sx.mean
+    );
+    assert!(
+        (se.cv - sx.cv).abs() <= 0.1 * se.cv.max(sx.cv) + 1e-9,
+        "thickness CV: Euler {} vs exact {}",
+        se.cv,
+        sx.cv
+    );
+}
+
 #[test]
 fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
     use spraysim::motion::Integrator;
@@ -331,25 +412,17 @@ fn euler_and_exact_agree_within_statistical_tolerance_on_the_reference_scene() {
         }
         .scenario()
         .expect("the reference scene is valid");
-        let sim = run(&sc);
-        let m = sim.metrics();
-        assert_conserved(&m);
-        assert_layer_volumes(&sim);
-        m
+        run(&sc)
     };
-    let (e, x) = (run_with(Integrator::Euler), run_with(Integrator::Exact));
-    let n = e.emitted.count as f64;
-    // Shares of the emitted particles: binomial spread, 5 standard deviations.
-    let share = |m: &Metrics, i: usize| m.targets[i].stuck.count as f64 / m.emitted.count as f64;
-    for (name, a, b) in [
-        ("wall", share(&e, 0), share(&x, 0)),
-        ("floor", share(&e, 1), share(&x, 1)),
-        ("rebound", e.rebound_ratio.unwrap_or(0.0), x.rebound_ratio.unwrap_or(0.0)),
-        ("bars", e.fates.stuck_on_obstacles.count as f64 / n, x.fates.stuck_on_obstacles.count as f64 / n),
-    ] {
-        let p = (a + b) / 2.0;
-        let tol = 5.0 * (2.0 * p * (1.0 - p) / n).sqrt() + 1e-9;
-        assert!((a - b).abs() <= tol, "{name}: Euler {a} vs exact {b} (± {tol})");
+    assert_integrators_agree(&run_with(Integrator::Euler), &run_with(Integrator::Exact));
+}
+
+#[test]
+fn euler_and_exact_agree_within_statistical_tolerance_for_every_process() {
+    for preset in ["shotcrete", "painting", "blasting"] {
+        let sc = panel(preset, "").with("simulation.duration", 0.5).expect("valid");
+        let exact = sc.with("simulation.integrator", "exact").expect("valid");
+        assert_integrators_agree(&run(&sc), &run(&exact));
     }
 }
 

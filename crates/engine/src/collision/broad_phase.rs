@@ -4,6 +4,7 @@
 
 use super::Aabb;
 use glam::{DVec3, IVec3};
+use std::sync::Arc;
 
 /// Most grid cells; the cell size grows to respect it.
 const MAX_CELLS: f64 = 2_097_152.0;
@@ -13,7 +14,20 @@ const MIN_CELL: f64 = 0.01;
 /// walk, far below any feature.
 const BIN_MARGIN: f64 = 1e-6;
 
-/// Surfaces binned into the cells their bounding boxes overlap (compressed rows).
+/// Bits of [`Grid::flags`].
+mod cell {
+    /// The cell holds a surface or lies in a marked zone.
+    pub const OCCUPIED: u8 = 1;
+    /// The cell or one of its 26 neighbours is occupied.
+    pub const CROWDED: u8 = 2;
+}
+
+/// Surfaces binned into the cells their bounding boxes overlap (compressed rows), plus zones
+/// marked later (a layer growing in front of a surface) that make cells occupied without
+/// listing anything in them.
+///
+/// The binned surfaces never change, so a clone shares them; the occupancy maps are shared
+/// until a clone marks a zone (copy on write).
 #[derive(Clone, Debug, Default)]
 pub struct Grid {
     origin: DVec3,
@@ -25,14 +39,16 @@ pub struct Grid {
     /// `dims - 1` as floats: the largest cell coordinate.
     last: DVec3,
     /// `items[start[c]..start[c + 1]]` are the surfaces in cell `c`.
-    start: Vec<u32>,
-    items: Vec<u32>,
-    /// Per cell: it and its 26 neighbours hold no surface.
-    clear: Vec<bool>,
+    start: Arc<[u32]>,
+    items: Arc<[u32]>,
+    /// Per cell: [`cell::OCCUPIED`], [`cell::CROWDED`].
+    flags: Arc<[u8]>,
     /// Per block of 2 × 2 × 2 cells: Chebyshev distance in blocks to the nearest block holding
-    /// a surface, capped at [`DISTANCE_CAP`]: the blocks within `d − 1` of it hold none. Blocks
-    /// keep its cost to build small beside the grid's.
-    distance: Vec<u8>,
+    /// an occupied cell, capped at [`DISTANCE_CAP`]: the blocks within `d − 1` of it hold none.
+    /// Blocks keep its cost to build small beside the grid's.
+    distance: Arc<[u8]>,
+    /// `flags` and `distance` as binned, before any zone was marked.
+    binned: (Arc<[u8]>, Arc<[u8]>),
     /// Blocks along each axis.
     blocks: IVec3,
 }
@@ -63,10 +79,11 @@ impl Grid {
             dims,
             end: bounds.min + dims.as_dvec3() * cell,
             last,
-            start: Vec::new(),
-            items: Vec::new(),
-            clear: Vec::new(),
-            distance: Vec::new(),
+            start: Arc::default(),
+            items: Arc::default(),
+            flags: Arc::default(),
+            distance: Arc::default(),
+            binned: Default::default(),
             blocks: (dims + 1) / 2,
         };
         let n = (dims.x * dims.y * dims.z) as usize;
@@ -82,12 +99,65 @@ impl Grid {
             items[fill[c] as usize] = i;
             fill[c] += 1;
         });
-        grid.start = count;
-        grid.items = items;
-        let occupied = grid.occupancy();
-        grid.clear = dilate3(&occupied, grid.dims).iter().map(|&o| o == 0).collect();
-        grid.distance = grid.distances(&occupied);
+        drop(fill);
+        let occupied: Vec<u8> = count[..n].iter().zip(&count[1..]).map(|(a, b)| u8::from(a != b)).collect();
+        grid.start = count.into();
+        grid.items = items.into();
+        let crowded = dilate3(&occupied, grid.dims);
+        grid.distance = grid.distances(&occupied).into();
+        grid.flags = occupied
+            .iter()
+            .zip(&crowded)
+            .map(|(&o, &c)| (o * cell::OCCUPIED) | (c * cell::CROWDED))
+            .collect();
+        grid.binned = (grid.flags.clone(), grid.distance.clone());
         grid
+    }
+
+    /// Makes every cell that `b` overlaps occupied, as if a surface filled `b`, without
+    /// listing anything in those cells: the free-flight tests then send particles there to the
+    /// full search, which finds what they meet by other means (a deposited layer). Costs the
+    /// cells of `b` and the blocks near it, not the grid.
+    pub fn mark(&mut self, b: &Aabb) {
+        if self.start.is_empty() {
+            return;
+        }
+        let b = b.inflate(BIN_MARGIN);
+        let (lo, hi) = (self.cell_of(b.min), self.cell_of(b.max));
+        let index = |c: IVec3, dims: IVec3| (c.x + dims.x * (c.y + dims.y * c.z)) as usize;
+        let (dims, blocks) = (self.dims, self.blocks);
+        let (from, to) = ((lo - 1).max(IVec3::ZERO), (hi + 1).min(dims - 1));
+        let flags = Arc::make_mut(&mut self.flags);
+        for z in from.z..=to.z {
+            for y in from.y..=to.y {
+                for x in from.x..=to.x {
+                    let c = IVec3::new(x, y, z);
+                    let inside = c.cmpge(lo).all() && c.cmple(hi).all();
+                    flags[index(c, dims)] |= cell::CROWDED | if inside { cell::OCCUPIED } else { 0 };
+                }
+            }
+        }
+        // The distance to the nearest occupied block is the least over occupied blocks, so it
+        // only needs the distance to the marked ones where that is below the cap.
+        let (blo, bhi) = (lo / 2, hi / 2);
+        let reach = i32::from(DISTANCE_CAP) - 1;
+        let (from, to) = ((blo - reach).max(IVec3::ZERO), (bhi + reach).min(blocks - 1));
+        let distance = Arc::make_mut(&mut self.distance);
+        for z in from.z..=to.z {
+            for y in from.y..=to.y {
+                for x in from.x..=to.x {
+                    let c = IVec3::new(x, y, z);
+                    let d = (blo - c).max(c - bhi).max(IVec3::ZERO).max_element() as u8;
+                    let i = index(c, blocks);
+                    distance[i] = distance[i].min(d);
+                }
+            }
+        }
+    }
+
+    /// Forgets every zone [`Grid::mark`] added: the grid as binned.
+    pub fn clear_marks(&mut self) {
+        (self.flags, self.distance) = self.binned.clone();
     }
 
     /// Calls `f(cell, surface)` for every cell each bounded surface's box overlaps, in surface
@@ -105,12 +175,6 @@ impl Grid {
                 }
             }
         }
-    }
-
-    /// The occupancy of each cell, 0 or 1.
-    fn occupancy(&self) -> Vec<u8> {
-        let n = self.start.len() - 1;
-        self.start[..n].iter().zip(&self.start[1..]).map(|(a, b)| u8::from(a != b)).collect()
     }
 
     /// Index of block `c` in the distance map.
@@ -213,10 +277,11 @@ impl Grid {
         }
         let c = self.cell_of(p0);
         let i = self.index(c);
-        if self.clear[i] && (p1 - p0).abs().max_element() < self.cell {
+        let flags = self.flags[i];
+        if flags & cell::CROWDED == 0 && (p1 - p0).abs().max_element() < self.cell {
             return true;
         }
-        c == self.cell_of(p1) && self.start[i] == self.start[i + 1]
+        flags & cell::OCCUPIED == 0 && c == self.cell_of(p1)
     }
 
     /// True if everything inside `b` certainly misses every binned surface: `b` is smaller than
@@ -229,7 +294,8 @@ impl Grid {
         if !(self.origin.cmple(b.min).all() && b.min.cmplt(self.end).all()) {
             return false;
         }
-        (b.max - b.min).max_element() < self.cell && self.clear[self.index(self.cell_of(b.min))]
+        (b.max - b.min).max_element() < self.cell
+            && self.flags[self.index(self.cell_of(b.min))] & cell::CROWDED == 0
     }
 
     /// Calls `visit` with the surfaces of every cell that `b` overlaps (a surface spanning
@@ -430,12 +496,37 @@ mod tests {
                             any |= occupied(a, b, c);
                         }
                     }
-                    assert_eq!(grid.clear[grid.index(IVec3::new(x, y, z))], !any, "cell {x},{y},{z}");
+                    let clear = grid.flags[grid.index(IVec3::new(x, y, z))] & cell::CROWDED == 0;
+                    assert_eq!(clear, !any, "cell {x},{y},{z}");
                     checked += 1;
                 }
             }
         }
-        assert!(checked > 100_000 && grid.clear.iter().any(|&c| c) && grid.clear.iter().any(|&c| !c));
+        let crowded = |f: &u8| f & cell::CROWDED != 0;
+        assert!(checked > 100_000 && grid.flags.iter().any(crowded) && !grid.flags.iter().all(crowded));
+    }
+
+    /// A zone marked after binning occupies the grid exactly as a surface binned with that box
+    /// would, and clearing the marks gives back the grid as binned.
+    #[test]
+    fn marking_a_zone_equals_binning_its_box() {
+        let bounds = Aabb { min: DVec3::ZERO, max: DVec3::ONE };
+        let wall = Aabb { min: DVec3::new(0.8, 0.1, 0.1), max: DVec3::new(0.8, 0.9, 0.9) };
+        let bar = Aabb { min: DVec3::new(0.1, 0.5, 0.0), max: DVec3::new(0.12, 0.52, 1.0) };
+        let layer = Aabb { min: DVec3::new(0.66, 0.1, 0.1), max: wall.max };
+        let binned = Grid::new(&[Some(wall), Some(bar), Some(layer)], bounds);
+        let mut marked = Grid::new(&[Some(wall), Some(bar)], bounds);
+        let before = marked.clone();
+        assert_eq!(marked.dims, binned.dims);
+        // Twice, as a layer's zone grows: the smaller zone lies inside the larger.
+        marked.mark(&Aabb { min: DVec3::new(0.75, 0.1, 0.1), max: wall.max });
+        marked.mark(&layer);
+        assert_eq!(marked.flags, binned.flags);
+        assert_eq!(marked.distance, binned.distance);
+        // The clone taken before still sees the grid as it was (copy on write).
+        assert_ne!(before.flags, marked.flags);
+        marked.clear_marks();
+        assert_eq!((marked.flags, marked.distance), (before.flags, before.distance));
     }
 
     #[test]

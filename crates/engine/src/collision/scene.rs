@@ -4,6 +4,10 @@ use super::broad_phase::Grid;
 use super::{Aabb, Arc, Hit, Primitive, Shape};
 use glam::DVec3;
 
+/// Margin of the boxes that reject a surface before its exact test, m: keeps the reject
+/// conservative against rounding.
+const BOX_MARGIN: f64 = 1e-9;
+
 /// Index of a surface in the [`Scene`], in the order the surfaces were given.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct SurfaceId(pub u32);
@@ -82,19 +86,52 @@ impl Scene {
         let unbounded = (0..surfaces.len() as u32).filter(|&i| boxes[i as usize].is_none()).collect();
         let grid = Grid::new(&boxes, bounds);
         let everywhere = Aabb { min: DVec3::NEG_INFINITY, max: DVec3::INFINITY };
-        // A small margin keeps the reject conservative against rounding.
-        let boxes = boxes.iter().map(|b| b.map_or(everywhere, |b| b.inflate(1e-9))).collect();
+        let boxes = boxes.iter().map(|b| b.map_or(everywhere, |b| b.inflate(BOX_MARGIN))).collect();
         Scene { surfaces, unbounded, boxes, grid, bounds }
     }
 
-    /// Sets how far a layer may reach in front of each surface of `ids` (m) and re-indexes
-    /// the scene once.
+    /// Sets how far a layer may reach in front of each surface of `ids` (m). The broad phase
+    /// marks the space a layer may take as occupied, so that particles there get the full
+    /// search (which finds the layer itself); the surfaces' own cells never change. Growing
+    /// costs the cells of the grown zones; any shrinking rebuilds the marks from the binned
+    /// grid, so the marks never depend on the history that led to the allowances.
     pub fn set_layer_allowances(&mut self, ids: &[(SurfaceId, f64)]) {
-        let mut surfaces = std::mem::take(&mut self.surfaces);
+        let shrinks = ids.iter().any(|&(id, reach)| reach < self.surfaces[id.index()].layer);
         for &(id, reach) in ids {
-            surfaces[id.index()].layer = reach;
+            let s = &mut self.surfaces[id.index()];
+            s.layer = reach;
+            if let Some(b) = s.bounds() {
+                self.boxes[id.index()] = b.inflate(BOX_MARGIN);
+            }
         }
-        *self = Scene::new(surfaces, self.bounds);
+        let marked: Vec<usize> = if shrinks {
+            self.grid.clear_marks();
+            (0..self.surfaces.len()).filter(|&i| self.surfaces[i].layer > 0.0).collect()
+        } else {
+            ids.iter().filter(|(_, reach)| *reach > 0.0).map(|(id, _)| id.index()).collect()
+        };
+        for i in marked {
+            if let Some(b) = self.surfaces[i].bounds() {
+                self.grid.mark(&b);
+            }
+        }
+    }
+
+    /// True if `surfaces` (allowances aside) and `bounds` are this scene's: a simulation of
+    /// them can reuse this scene's index.
+    pub fn indexes(&self, surfaces: &[SurfaceRef], bounds: Aabb) -> bool {
+        self.bounds == bounds
+            && self.surfaces.len() == surfaces.len()
+            && self.surfaces.iter().zip(surfaces).all(|(a, b)| {
+                a.shape == b.shape && a.kind == b.kind && a.piece == b.piece && a.impact == b.impact
+            })
+    }
+
+    /// Sets every layer allowance back to 0, as [`Scene::new`] left them (the surfaces are
+    /// binned with their allowances at the time).
+    pub fn clear_layer_allowances(&mut self) {
+        let ids: Vec<_> = (0..self.surfaces.len() as u32).map(|i| (SurfaceId(i), 0.0)).collect();
+        self.set_layer_allowances(&ids);
     }
 
     /// The surface with index `id`.

@@ -33,6 +33,8 @@ pub struct HeightField {
     rows: usize,
     width: f64,
     height: f64,
+    /// Area of one cell, m² (kept: metrics read it per cell).
+    cell_area: f64,
     thickness: Vec<f64>,
     hits: Vec<u32>,
     /// Upper bound of the thickness, m (never lowered by removals).
@@ -75,6 +77,7 @@ impl HeightField {
             rows,
             width,
             height,
+            cell_area: (width / cols as f64) * (height / rows as f64),
             thickness: vec![0.0; cols * rows],
             hits: vec![0; cols * rows],
             max_thickness: 0.0,
@@ -191,8 +194,9 @@ impl HeightField {
     }
 
     /// Area of one cell, m².
+    #[inline]
     pub fn cell_area(&self) -> f64 {
-        (self.width / self.cols as f64) * (self.height / self.rows as f64)
+        self.cell_area
     }
 
     /// Thickness per cell, m, row-major from the bottom row.

@@ -1,7 +1,7 @@
 //! Emit stage: the nozzle's emitter spawns this step's particles, and the path metrics take
 //! their sample of the nozzle's pose.
 
-use super::{Plan, State};
+use super::{Plan, State, Workers};
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
 use crate::emission::NozzleFrame;
@@ -18,7 +18,7 @@ pub(super) fn run(
     config: &SimulationConfig,
     plan: &Plan,
     state: &mut State,
-    pool: Option<&rayon::ThreadPool>,
+    workers: &Workers,
     events: &mut dyn EventHandler,
 ) {
     let time = state.step as f64 * config.dt;
@@ -39,12 +39,8 @@ pub(super) fn run(
         let (pos, vel) = emitter.sample(&frame, &mut key.stream(id, 0));
         (pos, vel + carried)
     };
-    let born: Vec<_> = if n >= EMIT_PARALLEL {
-        let work = || (first..first + n).into_par_iter().map(sample).collect();
-        match pool {
-            Some(pool) => pool.install(work),
-            None => work(),
-        }
+    let born: Vec<_> = if n >= EMIT_PARALLEL && workers.parallel() {
+        workers.install(|| (first..first + n).into_par_iter().map(sample).collect())
     } else {
         (first..first + n).map(sample).collect()
     };

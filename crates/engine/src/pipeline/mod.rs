@@ -52,6 +52,34 @@ pub enum SetupError {
     },
 }
 
+/// Where the stages' parallel loops run (see [`Simulation::set_threads`]).
+#[derive(Clone, Debug, Default)]
+enum Workers {
+    /// rayon's global pool.
+    #[default]
+    Global,
+    /// A pool of the simulation's own.
+    Pool(Arc<rayon::ThreadPool>),
+    /// The calling thread alone: with one thread, handing every step to a pool only adds a
+    /// wake-up and a wait per stage.
+    Caller,
+}
+
+impl Workers {
+    /// True unless the work stays on the calling thread.
+    fn parallel(&self) -> bool {
+        !matches!(self, Workers::Caller)
+    }
+
+    /// Runs `work` (which uses rayon's parallel iterators) on these workers.
+    fn install<R: Send>(&self, work: impl FnOnce() -> R + Send) -> R {
+        match self {
+            Workers::Pool(pool) => pool.install(work),
+            Workers::Global | Workers::Caller => work(),
+        }
+    }
+}
+
 /// What the configuration fixes for the whole run, worked out once.
 #[derive(Clone, Debug)]
 struct Plan {
@@ -108,7 +136,7 @@ pub struct Simulation {
     config: Arc<SimulationConfig>,
     plan: Plan,
     state: State,
-    pool: Option<Arc<rayon::ThreadPool>>,
+    workers: Workers,
     /// See [`Simulation::set_lazy_flight`].
     lazy_flight: bool,
 }
@@ -117,20 +145,53 @@ impl Simulation {
     /// Sets up a simulation of `config` at time 0.
     pub fn new(config: SimulationConfig) -> Result<Simulation, SetupError> {
         config.check()?;
-        Ok(setup::build(Arc::new(config)))
+        Ok(setup::build(Arc::new(config), None))
+    }
+
+    /// Sets this simulation up afresh for `config`, at time 0, as [`Simulation::new`] would and
+    /// with bit-identical results, but reusing the broad phase when the geometry (the targets'
+    /// and obstacles' shapes and the domain) is unchanged: in a loop of many runs of one scene
+    /// (calibration, trajectory optimisation, seeds) the index is built once. The thread and
+    /// lazy-flight settings are kept. On an error nothing changes.
+    ///
+    /// ```
+    /// use spraysim_engine::{Simulation, SimulationConfig};
+    ///
+    /// let config = SimulationConfig::example_wall(0.2);
+    /// let mut sim = Simulation::new(config.clone())?;
+    /// let mut layers = Vec::new();
+    /// for seed in 0..3 {
+    ///     sim.restart(SimulationConfig { seed, ..config.clone() })?;
+    ///     sim.run(|_| {});
+    ///     layers.push(sim.metrics().targets[0].layer_volume);
+    /// }
+    /// let mut fresh = Simulation::new(SimulationConfig { seed: 2, ..config })?;
+    /// fresh.run(|_| {});
+    /// assert!(layers[2] > 0.0 && layers[2] != layers[1]);
+    /// assert_eq!(fresh.metrics().targets[0].layer_volume, layers[2]);
+    /// # Ok::<(), spraysim_engine::SetupError>(())
+    /// ```
+    pub fn restart(&mut self, config: SimulationConfig) -> Result<(), SetupError> {
+        config.check()?;
+        let scene = std::mem::take(&mut self.state.scene);
+        let fresh = setup::build(Arc::new(config), Some(scene));
+        (self.config, self.plan, self.state) = (fresh.config, fresh.plan, fresh.state);
+        Ok(())
     }
 
     /// Runs the update stage on at most `threads` threads (0: rayon's global pool, one thread
-    /// per core). Results do not depend on it.
+    /// per core; 1: the calling thread alone, without a pool). Results do not depend on it.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), SetupError> {
-        self.pool = if threads == 0 {
-            None
-        } else {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .map_err(|e| SetupError::Threads { threads, message: e.to_string() })?;
-            Some(Arc::new(pool))
+        self.workers = match threads {
+            0 => Workers::Global,
+            1 => Workers::Caller,
+            _ => {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .map_err(|e| SetupError::Threads { threads, message: e.to_string() })?;
+                Workers::Pool(Arc::new(pool))
+            }
         };
         Ok(())
     }
@@ -273,9 +334,10 @@ impl Simulation {
             };
             let mut both = Both(log, events);
             let time = self.time();
-            emit::run(&self.config, &self.plan, &mut self.state, self.pool.as_deref(), &mut both);
-            let (pool, lazy) = (self.pool.as_deref(), self.lazy());
-            let outcomes = update::run(&self.config, &self.plan, &mut self.state, pool, lazy, capture);
+            emit::run(&self.config, &self.plan, &mut self.state, &self.workers, &mut both);
+            let lazy = self.lazy();
+            let outcomes =
+                update::run(&self.config, &self.plan, &mut self.state, &self.workers, lazy, capture);
             apply::run(&mut self.state, outcomes, &mut both);
             layers::run(&self.config, &self.plan, &mut self.state, &mut both);
             layers::grow_allowances(&self.config, &mut self.state, lazy);

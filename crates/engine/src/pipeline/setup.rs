@@ -1,6 +1,6 @@
 //! Builds a simulation's data sets from its configuration.
 
-use super::{Plan, Simulation, State};
+use super::{Plan, Simulation, State, Workers};
 use crate::collision::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
 use crate::config::{SimulationConfig, TargetConfig};
 use crate::deposit::DepositSurface;
@@ -10,8 +10,10 @@ use crate::tally::{PathTally, Tally};
 use crate::world::{ErosionMaps, Obstacle, Target};
 use std::sync::Arc;
 
-/// The simulation of a checked configuration, at time 0.
-pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
+/// The simulation of a checked configuration, at time 0. `reuse` is a scene index from an
+/// earlier simulation: kept (with its layer allowances cleared) if it indexes the same
+/// surfaces, as it then equals the one this would build.
+pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simulation {
     let c = &config;
     // One impact model per owner: targets first, then obstacles.
     let mut models = Vec::new();
@@ -46,7 +48,13 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
         }));
         obstacles.push(Obstacle { name: o.name.clone(), ..Obstacle::default() });
     }
-    let scene = Scene::new(surfaces, c.domain);
+    let scene = match reuse {
+        Some(mut scene) if scene.indexes(&surfaces, c.domain) => {
+            scene.clear_layer_allowances();
+            scene
+        }
+        _ => Scene::new(surfaces, c.domain),
+    };
     let steps_of = |interval: f64| (interval / c.dt).round().max(1.0) as u64;
     let plan = Plan {
         total_steps: c.total_steps(),
@@ -71,7 +79,7 @@ pub(super) fn build(config: Arc<SimulationConfig>) -> Simulation {
         path: PathTally::default(),
         impact_log: (c.impact_log > 0.0).then(|| ImpactLog::new(c.impact_log, c.seed)),
     };
-    Simulation { config, plan, state, pool: None, lazy_flight: true }
+    Simulation { config, plan, state, workers: Workers::Global, lazy_flight: true }
 }
 
 /// A target's record at time 0: its surface bare (or as configured), nothing struck yet.

@@ -3,7 +3,7 @@
 //! its own random stream; what it does to shared state (deposits, hit counts) is returned as
 //! [`ImpactRecord`]s for the apply stage.
 
-use super::{CHUNK, Plan, State};
+use super::{CHUNK, Plan, State, Workers};
 use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceId, SurfaceKind};
 use crate::config::SimulationConfig;
 use crate::deposit::{DepositSurface, LayerContact};
@@ -23,7 +23,7 @@ pub(super) fn run(
     config: &SimulationConfig,
     plan: &Plan,
     state: &mut State,
-    pool: Option<&rayon::ThreadPool>,
+    workers: &Workers,
     lazy: bool,
     capture: Capture,
 ) -> Vec<ChunkOutcome> {
@@ -68,10 +68,10 @@ pub(super) fn run(
         .collect();
     // One task per chunk: their costs differ widely (old rebounds near surfaces against young
     // particles in free flight), so idle threads must be able to take any of them.
-    let work = || chunks.into_par_iter().with_max_len(1).map(|c| ctx.run_chunk(c)).collect();
-    match pool {
-        Some(pool) => pool.install(work),
-        None => work(),
+    if workers.parallel() {
+        workers.install(|| chunks.into_par_iter().with_max_len(1).map(|c| ctx.run_chunk(c)).collect())
+    } else {
+        chunks.into_iter().map(|c| ctx.run_chunk(c)).collect()
     }
 }
 

@@ -33,6 +33,13 @@ impl Scenario {
         spraysim_engine::Simulation::new(self.config())
     }
 
+    /// Sets `sim` up afresh for this scenario, at time 0: what [`Scenario::build`] gives, bit
+    /// for bit, reusing `sim`'s broad phase when the geometry is the same (see
+    /// [`spraysim_engine::Simulation::restart`]). On an error `sim` is unchanged.
+    pub fn rebuild(&self, sim: &mut spraysim_engine::Simulation) -> Result<(), spraysim_engine::SetupError> {
+        sim.restart(self.config())
+    }
+
     /// When the nozzle's path ends, s: the time of its last waypoint (0 for a static or
     /// circling nozzle, which never stops).
     pub fn path_end(&self) -> f64 {

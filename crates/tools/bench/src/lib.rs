@@ -8,6 +8,7 @@
 //! 150 mm spacing, 50 mm in front of the wall), the shotcrete preset, a static nozzle pointed at
 //! the wall's centre, Δt = 1 ms (all adjustable through [`ReferenceScene`]).
 
+use spraysim_engine::Simulation;
 use spraysim_engine::deposit::RectangleSurface;
 use spraysim_engine::motion::Integrator;
 use spraysim_scenario::{Scenario, ScenarioError};
@@ -197,8 +198,9 @@ pub fn time_cohesion(side: usize, repeats: usize) -> f64 {
 pub const PAPER_BASELINE_PARTICLES_PER_SECOND: f64 = 5.56e4;
 
 /// Runs `count` short variants of the reference scene (0.2 s of spraying at its default rate,
-/// each with its own seed), as an optimisation loop would: each is parsed, built, run on one
-/// thread and reduced to its metrics, and the variants share `threads` workers (0: all cores).
+/// each with its own seed), as an optimisation loop would: each is parsed, set up (reusing the
+/// broad phase of the worker's previous variant, see [`Scenario::rebuild`]), run on one thread
+/// and reduced to its metrics, and the variants share `threads` workers (0: all cores).
 /// Returns variants per second of wall-clock time.
 pub fn short_variants(count: usize, threads: usize) -> Result<f64, BenchError> {
     use rayon::prelude::*;
@@ -211,12 +213,27 @@ pub fn short_variants(count: usize, threads: usize) -> Result<f64, BenchError> {
     let emitted: Result<u64, BenchError> = pool.install(|| {
         (0..count)
             .into_par_iter()
-            .map(|i| {
-                let mut sim = base.with("simulation.seed", i as i64)?.build()?;
-                sim.set_threads(1)?;
-                sim.run(|_| {});
-                Ok(sim.metrics().emitted.count)
-            })
+            // One simulation per task, set up afresh for each of its variants: the broad phase
+            // is built once per task.
+            .map_init(
+                || None,
+                |sim: &mut Option<Simulation>, i| {
+                    let variant = base.with("simulation.seed", i as i64)?;
+                    let sim = match sim {
+                        Some(sim) => {
+                            variant.rebuild(sim)?;
+                            sim
+                        }
+                        None => {
+                            let mut fresh = variant.build()?;
+                            fresh.set_threads(1)?;
+                            sim.insert(fresh)
+                        }
+                    };
+                    sim.run(|_| {});
+                    Ok(sim.metrics().emitted.count)
+                },
+            )
             .sum()
     });
     let wall = start.elapsed().as_secs_f64();
