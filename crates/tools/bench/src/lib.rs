@@ -411,7 +411,7 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
     let variants = m.variants.max(1);
     writeln!(
         out,
-        "{variants} short variants of the reference scene (0.2 s each, one seed each, built, run and reduced to metrics): {:.1} per second",
+        "{variants} short variants of the reference scene (0.2 s each, one seed each, set up on the broad phase of the previous one, run and reduced to metrics): {:.1} per second",
         short_variants(variants, all)?
     )?;
     let ms = 1e3 * time_cohesion(1024, 20);
