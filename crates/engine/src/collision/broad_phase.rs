@@ -124,7 +124,6 @@ impl Grid {
         }
         let b = b.inflate(BIN_MARGIN);
         let (lo, hi) = (self.cell_of(b.min), self.cell_of(b.max));
-        let index = |c: IVec3, dims: IVec3| (c.x + dims.x * (c.y + dims.y * c.z)) as usize;
         let (dims, blocks) = (self.dims, self.blocks);
         let (from, to) = ((lo - 1).max(IVec3::ZERO), (hi + 1).min(dims - 1));
         let flags = Arc::make_mut(&mut self.flags);
@@ -133,7 +132,7 @@ impl Grid {
                 for x in from.x..=to.x {
                     let c = IVec3::new(x, y, z);
                     let inside = c.cmpge(lo).all() && c.cmple(hi).all();
-                    flags[index(c, dims)] |= cell::CROWDED | if inside { cell::OCCUPIED } else { 0 };
+                    flags[flat(c, dims)] |= cell::CROWDED | if inside { cell::OCCUPIED } else { 0 };
                 }
             }
         }
@@ -148,7 +147,7 @@ impl Grid {
                 for x in from.x..=to.x {
                     let c = IVec3::new(x, y, z);
                     let d = (blo - c).max(c - bhi).max(IVec3::ZERO).max_element() as u8;
-                    let i = index(c, blocks);
+                    let i = flat(c, blocks);
                     distance[i] = distance[i].min(d);
                 }
             }
@@ -180,7 +179,7 @@ impl Grid {
     /// Index of block `c` in the distance map.
     #[inline]
     fn block_index(&self, c: IVec3) -> usize {
-        (c.x + self.blocks.x * (c.y + self.blocks.y * c.z)) as usize
+        flat(c, self.blocks)
     }
 
     /// Per block: the Chebyshev distance in blocks to the nearest block holding an `occupied`
@@ -255,7 +254,7 @@ impl Grid {
 
     #[inline]
     fn index(&self, c: IVec3) -> usize {
-        (c.x + self.dims.x * (c.y + self.dims.y * c.z)) as usize
+        flat(c, self.dims)
     }
 
     #[inline]
@@ -380,6 +379,12 @@ impl Grid {
             t_max[a] += t_delta[a];
         }
     }
+}
+
+/// Index of `c` in an array laid out x fastest over `dims`.
+#[inline]
+fn flat(c: IVec3, dims: IVec3) -> usize {
+    (c.x + dims.x * (c.y + dims.y * c.z)) as usize
 }
 
 /// Cells along each axis of a grid of cubes of edge `cell` over `extent`, at least one each.
