@@ -11,7 +11,7 @@
 use glam::DVec3;
 
 /// Version of the state encoding; a state of another version is refused.
-pub const STATE_VERSION: u32 = 2;
+pub const STATE_VERSION: u32 = 3;
 
 /// Why a saved state could not be restored.
 #[derive(Debug, thiserror::Error, PartialEq)]

@@ -82,6 +82,16 @@ impl Arc {
         b
     }
 
+    /// Bounding boxes of the arc's `N` equal stretches, which together hold it more tightly
+    /// than its one box.
+    pub fn piece_boxes<const N: usize>(&self) -> [super::Aabb; N] {
+        let step = self.duration / N as f64;
+        std::array::from_fn(|k| {
+            let t = step * k as f64;
+            Arc { x0: self.at(t), v0: self.velocity(t), g: self.g, duration: step }.aabb()
+        })
+    }
+
     /// `(q(τ) − origin)·dir` as a quadratic `[c₀, c₁, c₂]` in τ.
     #[inline]
     pub(crate) fn along(&self, origin: DVec3, dir: DVec3) -> [f64; 3] {

@@ -134,6 +134,12 @@ impl Scene {
         self.set_layer_allowances(&ids);
     }
 
+    /// True if the box `b` overlaps surface `id`'s bounds, its layer allowance included (always
+    /// for unbounded planes).
+    pub fn reaches(&self, id: SurfaceId, b: &Aabb) -> bool {
+        self.surfaces[id.index()].bounds().is_none_or(|s| s.overlaps(b))
+    }
+
     /// The surface with index `id`.
     #[inline]
     pub fn surface(&self, id: SurfaceId) -> &SurfaceRef {
@@ -197,13 +203,15 @@ impl Scene {
     /// Earliest exact hit of a ballistic arc over all surfaces: the surface's index and the hit
     /// (`Hit::t` is the fraction of the arc's duration). Ties go to the surface given first.
     pub fn first_hit_arc(&self, arc: &Arc) -> Option<(SurfaceId, Hit)> {
-        let bounds = arc.aabb();
+        self.first_hit_within(arc, &[arc.aabb()])
+    }
+
+    /// [`Scene::first_hit_arc`] for an arc held by the boxes `pieces`: only the surfaces near
+    /// one of them are solved (a long arc's pieces leave out most of its one box).
+    pub fn first_hit_within(&self, arc: &Arc, pieces: &[Aabb]) -> Option<(SurfaceId, Hit)> {
         let mut best: Option<(usize, Hit)> = None;
         let mut test = |i: u32| {
             let i = i as usize;
-            if !self.boxes[i].overlaps(&bounds) {
-                return;
-            }
             if let Some(hit) = self.surfaces[i].shape.intersect_arc(arc)
                 && best.is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < j))
             {
@@ -215,18 +223,20 @@ impl Scene {
         // the order of the tests, only on which surfaces are tested).
         let mut seen = [u32::MAX; 16];
         let mut n = 0;
-        self.grid.for_each_in_box(&bounds, |items| {
-            for &i in items {
-                if seen[..n].contains(&i) {
-                    continue;
+        for piece in pieces {
+            self.grid.for_each_in_box(piece, |items| {
+                for &i in items {
+                    if seen[..n].contains(&i) || !self.boxes[i as usize].overlaps(piece) {
+                        continue;
+                    }
+                    if n < seen.len() {
+                        seen[n] = i;
+                        n += 1;
+                    }
+                    test(i);
                 }
-                if n < seen.len() {
-                    seen[n] = i;
-                    n += 1;
-                }
-                test(i);
-            }
-        });
+            });
+        }
         best.map(|(i, h)| (SurfaceId(i as u32), h))
     }
 

@@ -2,8 +2,10 @@
 //! cylindrical shell (tunnel linings, shafts, pipes, tanks), optionally with openings.
 
 use super::openings::Perforated;
-use super::{Chart, DepositSurface, HeightField, LayerContact, Layout, Opening, ShellChart, SurfaceMesh};
-use crate::collision::{Face, Hit, Primitive, Shape};
+use super::{
+    Chart, Clearance, DepositSurface, HeightField, LayerContact, Layout, Opening, ShellChart, SurfaceMesh,
+};
+use crate::collision::{Aabb, Face, Hit, Primitive, Shape};
 use glam::DVec3;
 use std::sync::Arc;
 
@@ -139,6 +141,32 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
         let (u, v, _) = self.chart.local(contact.point);
         contact.cell = self.solid(contact.cell, u, v);
         Some(contact)
+    }
+
+    fn layer_clearance(&self, b: &Aabb) -> Clearance {
+        // On a flat surface the height above it and the in-face coordinates are affine, so the
+        // box's corners bound them over the box.
+        if self.chart.uniform_normal().is_none() {
+            return Clearance::Unknown;
+        }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for k in 0..8 {
+            let pick = |bit: usize, a: usize| if k & bit == 0 { b.min[a] } else { b.max[a] };
+            let (u, v, h) = self.chart.local(DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2)));
+            let l = DVec3::new(u, v, h);
+            (lo, hi) = (lo.min(l), hi.max(l));
+        }
+        let (w, h) = self.chart.size();
+        if hi.z < 0.0 || hi.x < -0.5 * w || lo.x > 0.5 * w || hi.y < -0.5 * h || lo.y > 0.5 * h {
+            return Clearance::Free;
+        }
+        let (nodes, top) = self.field.nodes_under((lo.x, hi.x), (lo.y, hi.y));
+        Clearance::Over { nodes, height: lo.z, top }
+    }
+
+    #[inline]
+    fn node_bound(&self, level: u32, col: u32, row: u32) -> f64 {
+        self.field.node_bound(level, col, row)
     }
 
     #[inline]

@@ -1,8 +1,8 @@
 //! A regular grid of deposited thicknesses over a rectangle: splatting, the layer's slope, and
 //! where a path enters the layer.
 
-use super::Chart;
 use super::pyramid::MaxPyramid;
+use super::{Chart, Nodes};
 use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
 
@@ -19,6 +19,10 @@ const SKIP_FLOOR: usize = 2;
 /// Clearance above the blocks' maximum required to skip, m: far above the rounding of the
 /// heights, so that no skipped sample could have tested inside.
 const SKIP_MARGIN: f64 = 1e-9;
+
+/// Lowest pyramid level whose nodes sleeping flights watch (blocks of 16 × 16 cells): few
+/// nodes per surface, so that the watch stage can look at each of them every step.
+const WATCH_LEVEL: usize = 2;
 
 use super::LayerContact;
 
@@ -299,6 +303,22 @@ impl HeightField {
         let gu = if span > 0.0 { (at(row, c1.0) - at(row, c0.0)) / (span * dx) } else { 0.0 };
         let gv = if r1 > r0 { (at(r1, col) - at(r0, col)) / ((r1 - r0) as f64 * dy) } else { 0.0 };
         (gu, gv)
+    }
+
+    /// The nodes of the bounds (of level [`WATCH_LEVEL`] or above) that cover the cells under
+    /// the rectangle `u` × `v` (m, in-face coordinates, clamped to the field), and the
+    /// largest of their bounds, m.
+    pub fn nodes_under(&self, u: (f64, f64), v: (f64, f64)) -> (Nodes, f64) {
+        let (a, b) = (self.cell_at(u.0, v.0) as usize, self.cell_at(u.1, v.1) as usize);
+        let ((c0, r0), (c1, r1)) = ((a % self.cols, a / self.cols), (b % self.cols, b / self.cols));
+        let nodes = self.bounds.cover((c0, c1), (r0, r1), WATCH_LEVEL);
+        (nodes, self.bounds.max_over(&self.thickness, self.cols, &nodes))
+    }
+
+    /// An upper bound of the thickness over node `(col, row)` of level `level` of the bounds
+    /// (blocks of `2ˡᵉᵛᵉˡ` cells; level 0: the cell), m.
+    pub fn node_bound(&self, level: u32, col: u32, row: u32) -> f64 {
+        self.bounds.bound(&self.thickness, self.cols, level, col, row)
     }
 
     /// Column and row of the cell under `p`.

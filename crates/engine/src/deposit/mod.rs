@@ -21,7 +21,7 @@ pub use heightfield::HeightField;
 pub use mesh::{MeshError, MeshSurface};
 pub use openings::Opening;
 
-use crate::collision::{Hit, Shape};
+use crate::collision::{Aabb, Hit, Shape};
 use glam::DVec3;
 
 /// Where a path meets a deposited layer.
@@ -36,6 +36,41 @@ pub struct LayerContact {
     /// The cell the material settles in: the one entered from above, or, entering a taller
     /// column through its side, the column the particle was over.
     pub cell: u32,
+}
+
+/// A rectangle of nodes of one level of a surface's bounds (level `k`: blocks of `2ᵏ × 2ᵏ`
+/// cells; level 0: the cells), both ranges inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Nodes {
+    /// Level.
+    pub level: u32,
+    /// First and last node column.
+    pub cols: (u32, u32),
+    /// First and last node row.
+    pub rows: (u32, u32),
+    /// Nodes per row of the level.
+    pub stride: u32,
+}
+
+/// How a box (the bounds of a flight) stands to a deposited layer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Clearance {
+    /// It lies nowhere over the receiving side: no layer can ever reach it.
+    Free,
+    /// It lies over the cells of `nodes`; its lowest point is `height` (m) above the bare
+    /// surface, and `top` (m), the largest of the nodes' bounds, bounds the layer under it
+    /// now. It clears the layer while every node's [`DepositSurface::node_bound`] stays
+    /// below `height`.
+    Over {
+        /// The nodes under the box.
+        nodes: Nodes,
+        /// Least height of the box above the bare surface, m.
+        height: f64,
+        /// Upper bound of the layer under the box now, m.
+        top: f64,
+    },
+    /// The surface cannot tell.
+    Unknown,
 }
 
 /// A triangle mesh of a deposit surface, for drawing and export: vertices on the bare surface
@@ -114,6 +149,21 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
 
     /// Where the segment `p0 → p1` first enters the deposited layer on the receiving side.
     fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact>;
+
+    /// How the box `b` stands to the deposited layer: what a flight inside `b` needs to know
+    /// to sleep over the layer (see [`Clearance`]). Surfaces that cannot bound their layer
+    /// under a box cheaply answer [`Clearance::Unknown`], and the particle is stepped.
+    fn layer_clearance(&self, b: &Aabb) -> Clearance {
+        let _ = b;
+        Clearance::Unknown
+    }
+
+    /// An upper bound of the thickness over node `(col, row)` of level `level` of the
+    /// surface's bounds (see [`Clearance::Over`]), m.
+    fn node_bound(&self, level: u32, col: u32, row: u32) -> f64 {
+        let _ = (level, col, row);
+        f64::INFINITY
+    }
 
     /// Unit normal of the bare surface at `cell`, towards the receiving side.
     fn normal(&self, cell: u32) -> DVec3;
@@ -235,6 +285,14 @@ macro_rules! surfaces {
             #[inline]
             fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact> {
                 each!(self, s => s.layer_contact(p0, p1))
+            }
+            #[inline]
+            fn layer_clearance(&self, b: &Aabb) -> Clearance {
+                each!(self, s => s.layer_clearance(b))
+            }
+            #[inline]
+            fn node_bound(&self, level: u32, col: u32, row: u32) -> f64 {
+                each!(self, s => s.node_bound(level, col, row))
             }
             #[inline]
             fn normal(&self, cell: u32) -> DVec3 { each!(self, s => s.normal(cell)) }

@@ -3,6 +3,7 @@
 //! from at most four nodes, whatever the grid's resolution, and a cell that grows updates
 //! only the nodes it overtakes.
 
+use super::Nodes;
 use crate::checkpoint::{Dec, Enc, StateError};
 
 /// Upper bounds of a grid's cells by blocks of `2ᵏ × 2ᵏ` cells, `k ≥ 1` (level 0 is the grid
@@ -13,12 +14,14 @@ pub(crate) struct MaxPyramid {
     levels: Vec<Vec<f64>>,
     /// Nodes per row of each level.
     cols: Vec<usize>,
+    /// Columns of the grid.
+    cols0: usize,
 }
 
 impl MaxPyramid {
     /// An all-zero pyramid over `cols × rows` cells, up to the single root.
     pub(crate) fn new(cols: usize, rows: usize) -> MaxPyramid {
-        let mut p = MaxPyramid::default();
+        let mut p = MaxPyramid { cols0: cols, ..MaxPyramid::default() };
         let (mut c, mut r) = (cols, rows);
         while c > 1 || r > 1 {
             (c, r) = (c.div_ceil(2), r.div_ceil(2));
@@ -57,24 +60,40 @@ impl MaxPyramid {
     /// grid, `cols` per row): the up to 2 × 2 nodes of the lowest level that covers the
     /// rectangle with them.
     #[inline]
-    pub(crate) fn max_in(
-        &self,
-        cells: &[f64],
-        cols: usize,
-        (c0, c1): (usize, usize),
-        (r0, r1): (usize, usize),
-    ) -> f64 {
-        let mut k = 0;
-        while (c1 >> k) - (c0 >> k) > 1 || (r1 >> k) - (r0 >> k) > 1 {
-            k += 1;
-        }
+    pub(crate) fn max_in(&self, cells: &[f64], cols: usize, c: (usize, usize), r: (usize, usize)) -> f64 {
+        self.max_over(cells, cols, &self.cover(c, r, 0))
+    }
+
+    /// The largest bound of `nodes`.
+    #[inline]
+    pub(crate) fn max_over(&self, cells: &[f64], cols: usize, nodes: &Nodes) -> f64 {
         let mut top = 0.0_f64;
-        for r in (r0 >> k)..=(r1 >> k) {
-            for c in (c0 >> k)..=(c1 >> k) {
-                top = top.max(if k == 0 { cells[r * cols + c] } else { self.node(k, c, r) });
+        for row in nodes.rows.0..=nodes.rows.1 {
+            for col in nodes.cols.0..=nodes.cols.1 {
+                top = top.max(self.bound(cells, cols, nodes.level, col, row));
             }
         }
         top
+    }
+
+    /// The up to 2 × 2 nodes of the lowest level from `lowest` up (or the root's, if lower)
+    /// that cover columns `c0..=c1` and rows `r0..=r1`.
+    #[inline]
+    pub(crate) fn cover(&self, (c0, c1): (usize, usize), (r0, r1): (usize, usize), lowest: usize) -> Nodes {
+        let mut k = lowest.min(self.height());
+        while (c1 >> k) - (c0 >> k) > 1 || (r1 >> k) - (r0 >> k) > 1 {
+            k += 1;
+        }
+        let span = |(a, b): (usize, usize)| ((a >> k) as u32, (b >> k) as u32);
+        let stride = if k == 0 { self.cols0 } else { self.cols[k - 1] } as u32;
+        Nodes { level: k as u32, cols: span((c0, c1)), rows: span((r0, r1)), stride }
+    }
+
+    /// The bound of node `(col, row)` of level `k` over `cells` (level 0: the cell itself).
+    #[inline]
+    pub(crate) fn bound(&self, cells: &[f64], cols: usize, k: u32, col: u32, row: u32) -> f64 {
+        let (col, row) = (col as usize, row as usize);
+        if k == 0 { cells[row * cols + col] } else { self.node(k as usize, col, row) }
     }
 
     /// Writes every level.

@@ -12,6 +12,7 @@ use crate::particles::flags;
 /// Applies every chunk's records, in chunk order.
 pub(super) fn run(state: &mut State, outcomes: Vec<ChunkOutcome>, events: &mut dyn EventHandler) {
     for out in outcomes {
+        out.watch.iter().for_each(|w| state.watches.add(w));
         for rec in &out.impacts {
             let volume = f64::from(rec.volume);
             let stuck = rec.flags & record::STUCK != 0;

@@ -2,7 +2,7 @@
 //! how far the layers have grown.
 
 use super::{Plan, State};
-use crate::collision::{Arc, SurfaceId};
+use crate::collision::SurfaceId;
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
 use crate::events::EventHandler;
@@ -57,25 +57,6 @@ pub(super) fn grow_allowances(config: &SimulationConfig, state: &mut State, lazy
     state.scene.set_layer_allowances(&grown);
     // Only the exact integrator lets particles sleep.
     if lazy {
-        wake_all(config, state);
-    }
-}
-
-/// Brings every sleeping particle back to the present (in closed form) so that it is updated
-/// next step: the scene it was cleared against has grown.
-pub(super) fn wake_all(config: &SimulationConfig, state: &mut State) {
-    let now = state.step + 1;
-    let (dt, g) = (config.dt, config.motion.gravity);
-    let s = &mut state.swarm;
-    for i in 0..s.len() {
-        let wake = u64::from(s.wake[i]);
-        if wake > now {
-            let back = -((wake - now) as f64 * dt);
-            let flight = Arc { x0: s.pos[i], v0: s.vel[i], g, duration: 0.0 };
-            s.pos[i] = flight.at(back);
-            s.vel[i] = flight.velocity(back);
-            s.age[i] = (f64::from(s.age[i]) + back) as f32;
-        }
-        s.wake[i] = 0;
+        super::watch::wake_all(config, state);
     }
 }

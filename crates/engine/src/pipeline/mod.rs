@@ -7,8 +7,9 @@
 //!    impacts (parallel over fixed-size chunks, each particle with its own random stream);
 //! 3. **apply** (`apply.rs`): impact records are applied to deposits and tallies in particle
 //!    order, and impact events reach the event handler;
-//! 4. **layers** (`layers.rs`): the layer stages (cohesion, drip, …) at their intervals, then
-//!    the broad phase is told how far the layers have grown;
+//! 4. **layers** (`layers.rs`): the layer stages (cohesion, drip, …) at their intervals; then
+//!    **watch** (`watch.rs`) wakes the sleeping particles a layer has grown under, and the
+//!    broad phase is told how far the layers have grown;
 //! 5. **compact**: retired particles are dropped from the swarm once they are many.
 //!
 //! Because chunks are fixed in size and records are applied in order, the result is
@@ -20,6 +21,7 @@ mod layers;
 mod persist;
 mod setup;
 mod update;
+mod watch;
 
 use crate::collision::Scene;
 use crate::config::{ConfigError, SimulationConfig};
@@ -110,6 +112,8 @@ struct State {
     failures: Vec<FailureEvent>,
     path: PathTally,
     impact_log: Option<ImpactLog>,
+    /// The layer nodes that sleeping particles watch.
+    watches: watch::Watches,
 }
 
 /// A running simulation.
@@ -340,6 +344,7 @@ impl Simulation {
                 update::run(&self.config, &self.plan, &mut self.state, &self.workers, lazy, capture);
             apply::run(&mut self.state, outcomes, &mut both);
             layers::run(&self.config, &self.plan, &mut self.state, &mut both);
+            watch::run(&self.config, &mut self.state);
             layers::grow_allowances(&self.config, &mut self.state, lazy);
             if self.state.retired > CHUNK && self.state.retired * 4 > self.state.swarm.len() {
                 self.state.swarm.compact();
@@ -357,7 +362,7 @@ impl Simulation {
     pub fn set_lazy_flight(&mut self, on: bool) {
         self.lazy_flight = on;
         if !on {
-            layers::wake_all(&self.config, &mut self.state);
+            watch::wake_all(&self.config, &mut self.state);
         }
     }
 

@@ -94,6 +94,7 @@ fn save(s: &State, e: &mut Enc) {
         amount(e, o.received);
     });
     save_totals(s, e);
+    s.watches.save_state(e);
 }
 
 /// The run's totals, failures, path statistics and impact log.
@@ -170,7 +171,9 @@ fn load(s: &mut State, d: &mut Dec<'_>) -> Result<(), StateError> {
         o.stuck = read_amount(d)?;
         o.received = read_amount(d)?;
     }
-    load_totals(s, d)
+    load_totals(s, d)?;
+    s.watches = super::watch::Watches::load_state(d, s.targets.len())?;
+    Ok(())
 }
 
 fn load_target(t: &mut crate::world::Target, d: &mut Dec<'_>) -> Result<(), StateError> {

@@ -78,6 +78,7 @@ pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simu
         failures: Vec::new(),
         path: PathTally::default(),
         impact_log: (c.impact_log > 0.0).then(|| ImpactLog::new(c.impact_log, c.seed)),
+        watches: super::watch::Watches::new(c.targets.len()),
     };
     Simulation { config, plan, state, workers: Workers::Global, lazy_flight: true }
 }

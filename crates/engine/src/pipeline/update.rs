@@ -3,10 +3,11 @@
 //! its own random stream; what it does to shared state (deposits, hit counts) is returned as
 //! [`ImpactRecord`]s for the apply stage.
 
+use super::watch::Watch;
 use super::{CHUNK, Plan, State, Workers};
 use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceId, SurfaceKind};
 use crate::config::SimulationConfig;
-use crate::deposit::{DepositSurface, LayerContact};
+use crate::deposit::{Clearance, DepositSurface, LayerContact};
 use crate::events::{ImpactEvent, sampled};
 use crate::motion::{Integrator, Motion};
 use crate::particles::{MATERIAL_EVENT, StreamKey, Volumes, flags};
@@ -75,6 +76,20 @@ pub(super) fn run(
     }
 }
 
+/// Longest stretch of flight one prediction solves, steps: its bounding box, and with it the
+/// surfaces solved and the layer nodes watched, stays small.
+const PREDICT_STEPS: f64 = 64.0;
+
+/// Stretches of a predicted flight whose boxes select the surfaces it is solved against.
+const PIECES: usize = 4;
+
+/// Least clearance a sleeping flight keeps above the bound of the layer under it, m: far above
+/// the rounding of positions recomputed in closed form.
+const LAYER_MARGIN: f64 = 1e-9;
+
+/// Safety margin of a predicted event time, s (relative for long flights).
+const EVENT_MARGIN: f64 = 1e-9;
+
 /// Bits of [`ImpactRecord::flags`].
 pub(crate) mod record {
     /// The particle stuck.
@@ -119,6 +134,8 @@ pub(crate) struct ChunkOutcome {
     pub updated: u64,
     /// Impacts captured for event handlers, in particle order.
     pub events: Vec<ImpactEvent>,
+    /// Layer nodes the particles put to sleep watch, in particle order.
+    pub watch: Vec<Watch>,
 }
 
 /// Which impacts the update stage gathers as events.
@@ -204,29 +221,35 @@ impl UpdateContext<'_> {
                 self.advance_slow(&mut chunk, i, age, &mut out);
             }
             if self.lazy && chunk.flags[i] & flags::ALIVE != 0 {
-                self.doze(&mut chunk, i);
+                self.doze(&mut chunk, i, &mut out.watch);
             }
         }
         out
     }
 
-    /// Lets particle `i` skip the coming steps that its flight certainly spends in open space,
-    /// inside the domain and within its lifetime: it moves to the start of the first step that
-    /// needs a look, in closed form, and sleeps until then. What a step would find is then
-    /// found at the step where it happens, so a particle costs work per event, not per step.
+    /// Lets particle `i` skip the coming steps in which its flight certainly meets nothing,
+    /// inside the domain and within its lifetime: it moves to the start of the step of its
+    /// next event (an impact, or a stretch that may touch a layer), in closed form, and sleeps
+    /// until then. In open space the broad phase's distance map says how long it may sleep;
+    /// near surfaces its flight is solved against them (see [`UpdateContext::predict`]), and
+    /// it watches the layers it passes over (see `watch.rs`). What a step would find is found
+    /// at the step where it happens, so a particle costs work per event, not per step.
     #[inline]
-    fn doze(&self, chunk: &mut SwarmChunk<'_>, i: usize) {
+    fn doze(&self, chunk: &mut SwarmChunk<'_>, i: usize, watch: &mut Vec<Watch>) {
         let (x, v, age) = (chunk.pos[i], chunk.vel[i], f64::from(chunk.age[i]));
         let g = self.motion.gravity;
         let flight = Arc { x0: x, v0: v, g, duration: 0.0 };
         // Every skipped step must keep the particle young enough, clear of every surface and
-        // inside the domain (the cheaper tests first: most particles near a surface stop here).
-        let open = self.scene.free_flight(x, v, g, self.max_lifetime - age);
+        // inside the domain.
+        let horizon = (self.max_lifetime - age).min(flight.exit_time(&self.domain));
+        let mut open = self.scene.free_flight(x, v, g, horizon);
+        let first = watch.len();
         if open < 2.0 * self.dt {
-            return;
+            open = self.predict(x, v, horizon, chunk.id[i], watch);
         }
-        let steps = (open.min(flight.exit_time(&self.domain)) / self.dt).floor();
+        let steps = (open.min(horizon) / self.dt).floor();
         if steps < 2.0 {
+            watch.truncate(first);
             return;
         }
         let tau = steps * self.dt;
@@ -234,6 +257,75 @@ impl UpdateContext<'_> {
         chunk.vel[i] = flight.velocity(tau);
         chunk.age[i] = (age + tau) as f32;
         chunk.wake[i] = u32::try_from(self.step + 1 + steps as u64).unwrap_or(u32::MAX);
+        for w in &mut watch[first..] {
+            w.wake = chunk.wake[i];
+        }
+    }
+
+    /// How long (s, at most `horizon`) the flight of particle `id` from `x` with velocity `v`
+    /// certainly meets nothing: the exact time of its first hit on a bare surface, over a
+    /// stretch of at most [`PREDICT_STEPS`] that halves until its bounding box clears every
+    /// deposited layer as it stands; 0 if none does. The layers' nodes under the box are
+    /// pushed to `watch`, to wake the particle if a layer grows into it.
+    #[inline(never)]
+    fn predict(&self, x: DVec3, v: DVec3, horizon: f64, id: u32, watch: &mut Vec<Watch>) -> f64 {
+        let g = self.motion.gravity;
+        let (shortest, first) = (2.0 * self.dt, watch.len());
+        let arc = |duration: f64| Arc { x0: x, v0: v, g, duration };
+        // Most flights that cannot sleep start against a layer: the shortest stretch first.
+        let mut span = horizon.min(PREDICT_STEPS * self.dt);
+        if span < shortest || !self.clears_layers(&arc(shortest).aabb(), id, watch) {
+            return 0.0;
+        }
+        watch.truncate(first);
+        while span >= shortest {
+            let flight = arc(span);
+            if self.clears_layers(&flight.aabb(), id, watch) {
+                let pieces = flight.piece_boxes::<PIECES>();
+                let t = self.scene.first_hit_within(&flight, &pieces).map_or(span, |(_, h)| h.t * span);
+                // The step that holds the event is stepped in full: a margin far above the
+                // rounding of closed-form positions keeps the event inside it.
+                return (t - EVENT_MARGIN * (1.0 + t)).max(0.0);
+            }
+            watch.truncate(first);
+            span *= 0.5;
+        }
+        0.0
+    }
+
+    /// True if the box `b` clears every target's layer by [`LAYER_MARGIN`]; pushes to `watch`
+    /// the nodes under it, with its least height, where the layer might grow into it.
+    fn clears_layers(&self, b: &Aabb, id: u32, watch: &mut Vec<Watch>) -> bool {
+        for (t, target) in self.targets.iter().enumerate() {
+            match target.surface.layer_clearance(b) {
+                Clearance::Free => {}
+                // A surface that cannot bound its layer is cleared only by its whole box, layer
+                // allowance included (a few pieces at most: a mesh's are too many to test).
+                Clearance::Unknown => {
+                    let far = target.pieces <= 4
+                        && (0..target.pieces)
+                            .all(|k| !self.scene.reaches(SurfaceId(target.surface_id.0 + k), b));
+                    if !far {
+                        return false;
+                    }
+                }
+                Clearance::Over { nodes, height, top } => {
+                    if height - top <= LAYER_MARGIN {
+                        return false;
+                    }
+                    // Above the layer's allowance in the broad phase, the box needs no watch: a
+                    // layer that outgrows its allowance wakes every sleeper.
+                    if height > self.scene.surface(target.surface_id).layer {
+                        continue;
+                    }
+                    // Rounded down, so that the watch wakes the flight no later than needed.
+                    let low = height as f32;
+                    let low = if f64::from(low) > height { low.next_down() } else { low };
+                    watch.push(Watch { id, wake: 0, target: t as u32, nodes, height: low });
+                }
+            }
+        }
+        true
     }
 
     /// The full step of particle `i`: impacts, then retirement checks.
