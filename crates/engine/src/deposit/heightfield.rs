@@ -20,8 +20,9 @@ const SKIP_FLOOR: usize = 2;
 /// heights, so that no skipped sample could have tested inside.
 const SKIP_MARGIN: f64 = 1e-9;
 
-/// Lowest pyramid level whose nodes sleeping flights watch (blocks of 16 × 16 cells): few
-/// nodes per surface, so that the watch stage can look at each of them every step.
+/// Lowest pyramid level whose nodes sleeping flights watch (blocks of 4 × 4 cells): the bound
+/// under a flight close to the layer stays tight, and a single cell's growth wakes only the
+/// flights over its block.
 const WATCH_LEVEL: usize = 2;
 
 use super::LayerContact;
@@ -305,7 +306,7 @@ impl HeightField {
         (gu, gv)
     }
 
-    /// The nodes of the bounds (of level [`WATCH_LEVEL`] or above) that cover the cells under
+    /// The nodes of the bounds (blocks of 4 × 4 cells or larger) that cover the cells under
     /// the rectangle `u` × `v` (m, in-face coordinates, clamped to the field), and the
     /// largest of their bounds, m.
     pub fn nodes_under(&self, u: (f64, f64), v: (f64, f64)) -> (Nodes, f64) {

@@ -59,8 +59,9 @@ pub struct Swarm {
     /// Status bits, see [`flags`].
     pub flags: Vec<u8>,
     /// Step at which the particle is next updated. With the exact integrator, a particle whose
-    /// flight certainly meets nothing for a while is moved there in closed form and skips the
-    /// steps in between; its position and velocity are then those at the start of that step.
+    /// flight certainly meets nothing for a while is moved in closed form to the start of the
+    /// step of its next event and skips the steps in between; its position and velocity are
+    /// then those at the start of that step.
     pub wake: Vec<u32>,
     /// Material volume carried by each particle.
     pub volumes: Volumes,

@@ -356,9 +356,10 @@ impl Simulation {
         self.state.impact_log = log;
     }
 
-    /// With the exact integrator, particles in free flight skip the steps in which they
-    /// certainly meet nothing (see [`crate::particles::Swarm::wake`]); on by default. Turning it
-    /// off steps every particle through every step, for comparison: results agree to rounding.
+    /// With the exact integrator, flight is event-driven: a particle skips the steps in which it
+    /// certainly meets nothing, up to the step of its next event (see
+    /// [`crate::particles::Swarm::wake`]); on by default. Turning it off steps every particle
+    /// through every step, for comparison: results agree to rounding.
     pub fn set_lazy_flight(&mut self, on: bool) {
         self.lazy_flight = on;
         if !on {

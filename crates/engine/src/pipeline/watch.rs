@@ -14,6 +14,9 @@ use crate::config::SimulationConfig;
 use crate::deposit::{DepositSurface, Nodes};
 use crate::particles::Swarm;
 
+/// Entries below which stale ones are kept.
+const PRUNE_FLOOR: usize = 4096;
+
 /// One sleeping flight's watch over nodes of one target's bounds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Watch {
@@ -78,12 +81,14 @@ pub(crate) struct Watches {
     targets: Vec<Vec<Level>>,
     /// Entries held, stale ones included.
     entries: usize,
+    /// Entries past which the stale ones are dropped.
+    prune_at: usize,
 }
 
 impl Watches {
     /// No watches, over `targets` targets.
     pub(crate) fn new(targets: usize) -> Watches {
-        Watches { targets: vec![Vec::new(); targets], entries: 0 }
+        Watches { targets: vec![Vec::new(); targets], entries: 0, prune_at: PRUNE_FLOOR }
     }
 
     /// Adds `w` to each node it covers.
@@ -117,11 +122,18 @@ impl Watches {
     pub(crate) fn clear(&mut self) {
         self.targets.iter_mut().for_each(Vec::clear);
         self.entries = 0;
+        self.prune_at = PRUNE_FLOOR;
     }
 
-    /// Drops the entries whose particle no longer sleeps until the entry's step.
-    fn prune(&mut self, swarm: &Swarm) {
-        let sleeping = |e: &Entry| swarm.id.binary_search(&e.id).is_ok_and(|i| swarm.wake[i] == e.wake);
+    /// Drops the entries whose particle no longer sleeps until the entry's step, after step
+    /// `now` (which could wake nothing), once they are twice as many as after the last pruning.
+    fn prune(&mut self, swarm: &Swarm, now: u64) {
+        if self.entries <= self.prune_at {
+            return;
+        }
+        let sleeping = |e: &Entry| {
+            u64::from(e.wake) > now && swarm.id.binary_search(&e.id).is_ok_and(|i| swarm.wake[i] == e.wake)
+        };
         self.entries = 0;
         for level in self.targets.iter_mut().flatten() {
             let (low, entries) = (&mut level.low, &mut level.entries);
@@ -133,9 +145,11 @@ impl Watches {
                 !entries[n].is_empty()
             });
         }
+        self.prune_at = (2 * self.entries).max(PRUNE_FLOOR);
     }
 
     pub(crate) fn save_state(&self, e: &mut Enc) {
+        e.usize(self.prune_at);
         e.list(&self.targets, |e, levels| {
             e.list(levels, |e, level| {
                 e.u32(level.stride);
@@ -162,9 +176,10 @@ impl Watches {
             }
             Ok(Level { stride, low: entries.iter().map(|e| lowest(e)).collect(), entries, active })
         };
+        let prune_at = d.usize()?;
         let levels = d.list_of(targets, "the watches", 8, |d| d.list(12, level))?;
         let entries = levels.iter().flatten().flat_map(|l| &l.entries).map(Vec::len).sum();
-        Ok(Watches { targets: levels, entries })
+        Ok(Watches { targets: levels, entries, prune_at })
     }
 }
 
@@ -197,10 +212,8 @@ pub(super) fn run(config: &SimulationConfig, state: &mut State) {
             rewind(config, &mut state.swarm, i, now);
         }
     }
-    // Stale entries pile up where layers do not grow: drop them once they outnumber the swarm.
-    if state.watches.entries > 4 * state.swarm.len() + 4096 {
-        state.watches.prune(&state.swarm);
-    }
+    // Stale entries pile up where layers do not grow.
+    state.watches.prune(&state.swarm, now);
 }
 
 /// Brings every sleeping particle back to the present (in closed form) so that it is updated
