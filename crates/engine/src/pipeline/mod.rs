@@ -367,6 +367,12 @@ impl Simulation {
         }
     }
 
+    /// Heap memory (bytes) of what the event-driven flight keeps beside the swarm: the layer
+    /// nodes that sleeping particles watch (0 with the explicit integrators).
+    pub fn watch_bytes(&self) -> usize {
+        self.state.watches.heap_bytes()
+    }
+
     fn lazy(&self) -> bool {
         self.lazy_flight && self.config.motion.integrator == Integrator::Exact
     }

@@ -76,9 +76,13 @@ pub(super) fn run(
     }
 }
 
-/// Longest stretch of flight one prediction solves, steps: its bounding box, and with it the
+/// Longest stretch of flight one prediction solves, s: its bounding box, and with it the
 /// surfaces solved and the layer nodes watched, stays small.
-const PREDICT_STEPS: f64 = 64.0;
+const PREDICT_SPAN: f64 = 0.064;
+
+/// Fewest steps that [`PREDICT_SPAN`] must hold for predictions to be made: one costs about
+/// what several steps near surfaces do, so with longer steps they are stepped.
+const PREDICT_MIN_STEPS: f64 = 8.0;
 
 /// Stretches of a predicted flight whose boxes select the surfaces it is solved against.
 const PIECES: usize = 4;
@@ -244,7 +248,7 @@ impl UpdateContext<'_> {
         let horizon = (self.max_lifetime - age).min(flight.exit_time(&self.domain));
         let mut open = self.scene.free_flight(x, v, g, horizon);
         let first = watch.len();
-        if open < 2.0 * self.dt {
+        if open < 2.0 * self.dt && PREDICT_SPAN >= PREDICT_MIN_STEPS * self.dt {
             open = self.predict(x, v, horizon, chunk.id[i], watch);
         }
         let steps = (open.min(horizon) / self.dt).floor();
@@ -264,7 +268,7 @@ impl UpdateContext<'_> {
 
     /// How long (s, at most `horizon`) the flight of particle `id` from `x` with velocity `v`
     /// certainly meets nothing: the exact time of its first hit on a bare surface, over a
-    /// stretch of at most [`PREDICT_STEPS`] that halves until its bounding box clears every
+    /// stretch of at most [`PREDICT_SPAN`] that halves until its bounding box clears every
     /// deposited layer as it stands; 0 if none does. The layers' nodes under the box are
     /// pushed to `watch`, to wake the particle if a layer grows into it.
     #[inline(never)]
@@ -273,7 +277,7 @@ impl UpdateContext<'_> {
         let (shortest, first) = (2.0 * self.dt, watch.len());
         let arc = |duration: f64| Arc { x0: x, v0: v, g, duration };
         // Most flights that cannot sleep start against a layer: the shortest stretch first.
-        let mut span = horizon.min(PREDICT_STEPS * self.dt);
+        let mut span = horizon.min(PREDICT_SPAN);
         if span < shortest || !self.clears_layers(&arc(shortest).aabb(), id, watch) {
             return 0.0;
         }

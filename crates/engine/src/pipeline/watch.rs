@@ -66,7 +66,15 @@ impl Level {
             keep
         });
         self.low[n] = lowest(entries);
+        trim(entries);
         entries.is_empty()
+    }
+}
+
+/// Gives back the room of a list that has shrunk to under a quarter of it.
+fn trim(entries: &mut Vec<Entry>) {
+    if entries.capacity() > 4 * entries.len() {
+        entries.shrink_to(2 * entries.len());
     }
 }
 
@@ -75,7 +83,9 @@ fn lowest(entries: &[Entry]) -> f32 {
     entries.iter().map(|e| e.height).fold(f32::INFINITY, f32::min)
 }
 
-/// Every target's watched nodes, by target and level; visited in that fixed order.
+/// Every target's watched nodes, by target and level; visited in that fixed order. An entry
+/// whose particle was woken and sleeps again until the same step counts again: at worst it
+/// wakes the particle early, never too late.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Watches {
     targets: Vec<Vec<Level>>,
@@ -118,6 +128,21 @@ impl Watches {
         }
     }
 
+    /// Heap memory held, bytes.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let level = |l: &Level| {
+            l.low.capacity() * size_of::<f32>()
+                + l.entries.capacity() * size_of::<Vec<Entry>>()
+                + l.entries.iter().map(|e| e.capacity() * size_of::<Entry>()).sum::<usize>()
+                + l.active.capacity() * size_of::<u32>()
+        };
+        self.targets
+            .iter()
+            .map(|t| t.capacity() * size_of::<Level>() + t.iter().map(level).sum::<usize>())
+            .sum()
+    }
+
     /// Forgets every watch (every sleeper was woken).
     pub(crate) fn clear(&mut self) {
         self.targets.iter_mut().for_each(Vec::clear);
@@ -126,7 +151,8 @@ impl Watches {
     }
 
     /// Drops the entries whose particle no longer sleeps until the entry's step, after step
-    /// `now` (which could wake nothing), once they are twice as many as after the last pruning.
+    /// `now` (which could wake nothing), once they are half as many again as after the last
+    /// pruning.
     fn prune(&mut self, swarm: &Swarm, now: u64) {
         if self.entries <= self.prune_at {
             return;
@@ -140,12 +166,13 @@ impl Watches {
             level.active.retain(|&n| {
                 let n = n as usize;
                 entries[n].retain(sleeping);
+                trim(&mut entries[n]);
                 low[n] = lowest(&entries[n]);
                 self.entries += entries[n].len();
                 !entries[n].is_empty()
             });
         }
-        self.prune_at = (2 * self.entries).max(PRUNE_FLOOR);
+        self.prune_at = (self.entries + self.entries / 2).max(PRUNE_FLOOR);
     }
 
     pub(crate) fn save_state(&self, e: &mut Enc) {

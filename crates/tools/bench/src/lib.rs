@@ -257,6 +257,10 @@ pub struct Measurement {
     pub particle_updates: u64,
     /// Particles that reached a final fate (stuck, left, expired).
     pub retired: u64,
+    /// Particles still in flight at the end.
+    pub in_flight: u64,
+    /// Heap memory of the event-driven flight's watches at the end, bytes.
+    pub watch_bytes: usize,
     /// Peak resident memory of the process so far, bytes (Linux; 0 elsewhere).
     pub peak_rss: u64,
 }
@@ -298,6 +302,8 @@ pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, Bench
         particle_steps: sim.particle_steps(),
         particle_updates: sim.particle_updates(),
         retired: m.emitted.count - m.fates.in_flight.count,
+        in_flight: m.fates.in_flight.count,
+        watch_bytes: sim.watch_bytes(),
         peak_rss: peak_rss(),
     })
 }
@@ -398,8 +404,12 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
         "| run | wall [s] | particle-steps/s | steps worked | particles/s to fate | × paper baseline | real-time factor | peak RSS [MiB] |"
     )?;
     writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|")?;
+    let mut watches = None;
     for (name, scenario, threads) in runs {
         let r = measure_median(&scenario, threads, m.repeats)?;
+        if scenario.simulation().integrator == Integrator::Exact && watches.is_none() {
+            watches = Some(r.watch_bytes as f64 / r.in_flight.max(1) as f64);
+        }
         writeln!(
             out,
             "| {name} | {:.3} | {:.3e} | {:.1} % | {:.3e} | {:.1} | {:.3} | {:.0} |",
@@ -432,5 +442,11 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
         "particle storage: {} bytes per particle slot",
         spraysim_engine::particles::Swarm::BYTES_PER_PARTICLE
     )?;
+    if let Some(bytes) = watches {
+        writeln!(
+            out,
+            "event-driven flight's layer watches, beside the swarm: {bytes:.0} bytes per particle in flight (end of the exact-integrator reference run)"
+        )?;
+    }
     Ok(())
 }
