@@ -169,9 +169,9 @@ pub(crate) fn derivative(c: &[f64]) -> Small {
 }
 
 /// Real roots of the polynomial `c` (low to high, degree ≤ 4) in `[lo, hi]`, ascending. Roots
-/// of the derivative split the interval into monotone pieces, each bisected to full
-/// precision, so no root is missed whatever the step; a root where the polynomial only
-/// touches zero counts.
+/// of the derivative split the interval into monotone pieces, each narrowed to adjacent
+/// floats, so no root is missed whatever the step; a root where the polynomial only touches
+/// zero counts. Quadratics are solved in closed form.
 pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
     let deg = c.iter().rposition(|&x| x != 0.0).unwrap_or(0);
     let c = &c[..=deg];
@@ -186,12 +186,15 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
         }
         return out;
     }
+    if deg == 2 {
+        return quadratic_roots(c, lo, hi);
+    }
     let mut knots = Small::default();
     knots.push(lo);
     roots(&derivative(c), lo, hi).iter().filter(|&&r| r > lo && r < hi).for_each(|&r| knots.push(r));
     knots.push(hi);
     for w in knots.windows(2) {
-        let (mut a, mut b) = (w[0], w[1]);
+        let (a, b) = (w[0], w[1]);
         let (fa, fb) = (eval(c, a), eval(c, b));
         if fa == 0.0 {
             out.push(a);
@@ -203,25 +206,68 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
         if fb == 0.0 {
             continue; // the next piece starts at b and records it
         }
-        let up = fb > 0.0;
-        loop {
-            let m = 0.5 * (a + b);
-            if m <= a || m >= b {
-                break;
-            }
-            if (eval(c, m) > 0.0) == up {
-                b = m;
-            } else {
-                a = m;
-            }
-        }
-        out.push(b);
+        out.push(narrow(c, (a, fa), (b, fb)));
     }
     if eval(c, hi) == 0.0 && out.last() != Some(&hi) {
         out.push(hi);
     }
     out.dedup();
     out
+}
+
+/// Roots of the quadratic `c` (low to high, `c[2] ≠ 0`) in `[lo, hi]`, ascending, without
+/// cancellation; a double root counts once.
+fn quadratic_roots(c: &[f64], lo: f64, hi: f64) -> Small {
+    let mut out = Small::default();
+    let disc = c[1] * c[1] - 4.0 * c[2] * c[0];
+    if disc < 0.0 {
+        return out;
+    }
+    let q = -0.5 * (c[1] + disc.sqrt().copysign(c[1]));
+    let (r1, r2) = (q / c[2], if q != 0.0 { c[0] / q } else { 0.0 });
+    for r in [r1.min(r2), r1.max(r2)] {
+        if (lo..=hi).contains(&r) {
+            out.push(r);
+        }
+    }
+    out.dedup();
+    out
+}
+
+/// The root of `c` in `(a, b)`, where it changes sign once (`fa`, `fb`: its values at the
+/// ends, neither 0): the first float at which it has `fb`'s sign, the bracket narrowed by
+/// false position with the Illinois rule, and every third step by bisection, down to
+/// adjacent floats.
+fn narrow(c: &[f64], (mut a, mut fa): (f64, f64), (mut b, mut fb): (f64, f64)) -> f64 {
+    let up = fb > 0.0;
+    // Which end the last step moved (-1: a, 1: b), to halve the other's value when one end
+    // moves twice in a row.
+    let mut moved = 0;
+    for k in 0.. {
+        let secant = (a * fb - b * fa) / (fb - fa);
+        let mut m = if k % 3 == 2 || !(secant > a && secant < b) { 0.5 * (a + b) } else { secant };
+        if m <= a || m >= b {
+            m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+        }
+        let fm = eval(c, m);
+        if (fm > 0.0) == up {
+            (b, fb) = (m, fm);
+            if moved == 1 {
+                fa *= 0.5;
+            }
+            moved = 1;
+        } else {
+            (a, fa) = (m, fm);
+            if moved == -1 {
+                fb *= 0.5;
+            }
+            moved = -1;
+        }
+    }
+    b
 }
 
 /// A hit at time `tau` (s) of the arc, with `Hit::t` the fraction of its duration.
