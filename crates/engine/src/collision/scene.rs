@@ -137,7 +137,12 @@ impl Scene {
     /// True if the box `b` overlaps surface `id`'s bounds, its layer allowance included (always
     /// for unbounded planes).
     pub fn reaches(&self, id: SurfaceId, b: &Aabb) -> bool {
-        self.surfaces[id.index()].bounds().is_none_or(|s| s.overlaps(b))
+        self.bounds_of(id).is_none_or(|s| s.overlaps(b))
+    }
+
+    /// Surface `id`'s bounds, its layer allowance included (`None` for unbounded planes).
+    pub fn bounds_of(&self, id: SurfaceId) -> Option<Aabb> {
+        self.surfaces[id.index()].bounds()
     }
 
     /// The surface with index `id`.

@@ -2,7 +2,7 @@
 //! how far the layers have grown.
 
 use super::{Plan, State};
-use crate::collision::SurfaceId;
+use crate::collision::{Aabb, SurfaceId, SurfaceKind};
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
 use crate::events::EventHandler;
@@ -40,7 +40,8 @@ pub(super) fn run(config: &SimulationConfig, plan: &Plan, state: &mut State, eve
 }
 
 /// Keeps the broad phase aware of every layer: when a target's layer outgrows the reach it was
-/// indexed with, the reach doubles and the scene is re-indexed (a few times per run).
+/// indexed with, the reach doubles and its zone is marked in the broad phase (a few times per
+/// run); the sleeping particles whose flight comes near a grown zone are woken.
 pub(super) fn grow_allowances(config: &SimulationConfig, state: &mut State, lazy: bool) {
     let grown: Vec<_> = state
         .targets
@@ -56,7 +57,23 @@ pub(super) fn grow_allowances(config: &SimulationConfig, state: &mut State, lazy
     }
     state.scene.set_layer_allowances(&grown);
     // Only the exact integrator lets particles sleep.
-    if lazy {
-        super::watch::wake_all(config, state);
+    if !lazy {
+        return;
     }
+    // One box per grown target (a mesh has too many pieces to test each).
+    let mut zones: Vec<(u32, Aabb)> = Vec::new();
+    for &(id, _) in &grown {
+        let SurfaceKind::Target(t) = state.scene.surface(id).kind else { continue };
+        let Some(b) = state.scene.bounds_of(id) else {
+            // An unbounded surface's zone is everywhere.
+            super::watch::wake_all(config, state);
+            return;
+        };
+        match zones.last_mut() {
+            Some((last, zone)) if *last == t as u32 => *zone = zone.union(b),
+            _ => zones.push((t as u32, b)),
+        }
+    }
+    let zones: Vec<Aabb> = zones.into_iter().map(|(_, b)| b).collect();
+    super::watch::wake_near(config, state, &zones);
 }

@@ -9,7 +9,8 @@
 //!    order, and impact events reach the event handler;
 //! 4. **layers** (`layers.rs`): the layer stages (cohesion, drip, …) at their intervals; then
 //!    **watch** (`watch.rs`) wakes the sleeping particles a layer has grown under, and the
-//!    broad phase is told how far the layers have grown;
+//!    broad phase is told how far the layers have grown (waking the sleepers that come near a
+//!    grown zone);
 //! 5. **compact**: retired particles are dropped from the swarm once they are many.
 //!
 //! Because chunks are fixed in size and records are applied in order, the result is

@@ -318,7 +318,8 @@ impl UpdateContext<'_> {
                         return false;
                     }
                     // Above the layer's allowance in the broad phase, the box needs no watch: a
-                    // layer that outgrows its allowance wakes every sleeper.
+                    // layer that outgrows its allowance wakes every sleeper whose flight comes
+                    // near the grown zone.
                     if height > self.scene.surface(target.surface_id).layer {
                         continue;
                     }

@@ -9,10 +9,13 @@
 
 use super::State;
 use crate::checkpoint::{Dec, Enc, StateError};
-use crate::collision::Arc;
+use crate::collision::{Aabb, Arc};
 use crate::config::SimulationConfig;
 use crate::deposit::{DepositSurface, Nodes};
 use crate::particles::Swarm;
+
+/// Margin around a sleeping flight's box when testing it against a grown zone, m.
+const ZONE_MARGIN: f64 = 1e-6;
 
 /// Entries below which stale ones are kept.
 const PRUNE_FLOOR: usize = 4096;
@@ -243,6 +246,28 @@ pub(super) fn run(config: &SimulationConfig, state: &mut State) {
     state.watches.prune(&state.swarm, now);
 }
 
+/// Brings back to the present the sleeping particles whose flight, from the next step to the
+/// one they sleep until, comes near one of `zones` (boxes, m: where a layer's allowance in the
+/// broad phase has grown, which their sleep did not allow for).
+pub(super) fn wake_near(config: &SimulationConfig, state: &mut State, zones: &[Aabb]) {
+    let now = state.step + 1;
+    let s = &mut state.swarm;
+    for i in 0..s.len() {
+        let wake = u64::from(s.wake[i]);
+        if wake <= now {
+            continue;
+        }
+        let back = (wake - now) as f64 * config.dt;
+        let end = Arc { x0: s.pos[i], v0: s.vel[i], g: config.motion.gravity, duration: 0.0 };
+        let rest = Arc { x0: end.at(-back), v0: end.velocity(-back), g: end.g, duration: back };
+        // Grown by far more than the rounding between this flight and the one stepped later.
+        let near = rest.aabb().inflate(ZONE_MARGIN);
+        if zones.iter().any(|z| z.overlaps(&near)) {
+            rewind(config, s, i, now);
+        }
+    }
+}
+
 /// Brings every sleeping particle back to the present (in closed form) so that it is updated
 /// next step, and forgets every watch.
 pub(super) fn wake_all(config: &SimulationConfig, state: &mut State) {
@@ -288,46 +313,52 @@ mod tests {
         }
     }
 
-    /// Regression: a flight put to sleep over a layer must meet the layer that grows into its
-    /// path while it sleeps, not the bare surface under it (which it would if nothing woke it:
-    /// it would wake inside the layer, and a path that starts inside a layer never enters it).
-    #[test]
-    fn a_sleeping_flight_meets_the_layer_grown_into_its_path() {
+    /// The example wall with the exact integrator and particles slow enough (2 to 3 m/s) to
+    /// sleep for several steps near the wall.
+    fn slow_wall() -> Simulation {
         let mut config = SimulationConfig::example_wall(1.0);
         config.motion.integrator = Integrator::Exact;
-        // Slow enough that particles sleep for several steps on their last stretch.
         config.emitter.speed = [2.0, 3.0];
-        let mut sim = Simulation::new(config).expect("the example is valid");
-        // A particle on its way to the wall that watches it, asleep for a few more steps, 2 cm
-        // or more from it (the wall's receiving side faces −x from x = 0: the height above it
-        // is −x).
-        let (id, height) = loop {
+        Simulation::new(config).expect("the example is valid")
+    }
+
+    /// Steps `sim` until a particle on its way to the wall (the wall's receiving side faces −x
+    /// from x = 0: the height above it is −x), asleep for a few more steps, at a height within
+    /// `heights` (m), watches the wall or not as `watched` says; returns its id and height, the
+    /// lowest id if several.
+    fn sleeper(sim: &mut Simulation, watched: bool, heights: (f64, f64)) -> (u32, f64) {
+        loop {
             sim.step();
-            assert!(!sim.is_finished(), "no particle slept over the wall");
+            assert!(!sim.is_finished(), "no such sleeper");
             let s = &sim.state;
-            let watched = s.watches.targets[0].iter().flat_map(|l| l.entries.iter().flatten());
-            let asleep = watched.filter_map(|e| {
-                let i = s.swarm.id.binary_search(&e.id).ok()?;
+            let nodes = s.watches.targets[0].iter().flat_map(|l| l.entries.iter().flatten());
+            let watching: Vec<(u32, u32)> = nodes.map(|e| (e.id, e.wake)).collect();
+            let found = (0..s.swarm.len()).filter_map(|i| {
                 let (x, v, _) = sim.particle_now(i);
+                let (id, wake) = (s.swarm.id[i], s.swarm.wake[i]);
+                let watches = watching.contains(&(id, wake));
                 let height = -x.x;
-                (s.swarm.wake[i] == e.wake && u64::from(e.wake) > s.step + 3 && height > 0.02 && v.x > 1.0)
-                    .then_some((e.id, height))
+                let within = height > heights.0 && height < heights.1;
+                (u64::from(wake) > s.step + 3 && within && v.x > 1.0 && watches == watched)
+                    .then_some((id, height))
             });
-            if let Some(found) = asleep.min_by_key(|&(id, _)| id) {
-                break found;
+            if let Some(found) = found.min_by_key(|&(id, _)| id) {
+                return found;
             }
-        };
-        // The layer rises everywhere to 5 mm below the particle.
-        let layer = height - 0.005;
+        }
+    }
+
+    /// Raises the wall's layer everywhere by `layer` (m).
+    fn raise_wall(sim: &mut Simulation, layer: f64) {
         let wall = &mut sim.state.targets[0].surface;
         for cell in 0..wall.thickness().len() as u32 {
             wall.add_thickness(cell, layer);
         }
-        // Its watch wakes it (the broad phase would too, at the end of the step, for a layer
-        // this much thicker than before: the watch must not rely on that).
-        super::run(&sim.config, &mut sim.state);
-        let i = sim.state.swarm.id.binary_search(&id).expect("still in flight");
-        assert_eq!(sim.state.swarm.wake[i], 0, "the particle sleeps on over the grown layer");
+    }
+
+    /// Steps `sim` until particle `id` strikes something and asserts that it is the layer's top,
+    /// `layer` (m) in front of the wall.
+    fn strikes_the_layer(sim: &mut Simulation, id: u32, layer: f64) {
         let mut seen = Impacts(id, Vec::new());
         while seen.1.is_empty() && !sim.is_finished() {
             sim.step_with(&mut seen);
@@ -338,5 +369,79 @@ mod tests {
             "struck {} m in front of the wall, the layer's top is at {layer} m",
             -first.position.x
         );
+    }
+
+    /// True if particle `id` is awake (or gone).
+    fn awake(sim: &Simulation, id: u32) -> bool {
+        let s = &sim.state;
+        s.swarm.id.binary_search(&id).ok().is_none_or(|i| u64::from(s.swarm.wake[i]) <= s.step + 1)
+    }
+
+    /// Regression: a flight put to sleep over a layer must meet the layer that grows into its
+    /// path while it sleeps, not the bare surface under it (which it would if nothing woke it:
+    /// it would wake inside the layer, and a path that starts inside a layer never enters it).
+    #[test]
+    fn a_sleeping_flight_meets_the_layer_grown_into_its_path() {
+        let mut sim = slow_wall();
+        let (id, height) = sleeper(&mut sim, true, (0.02, 1.0));
+        let layer = height - 0.005;
+        raise_wall(&mut sim, layer);
+        // Its watch wakes it (the broad phase would too, at the end of the step, for a layer
+        // this much thicker than before: the watch must not rely on that).
+        super::run(&sim.config, &mut sim.state);
+        assert!(awake(&sim, id), "the particle sleeps on over the grown layer");
+        strikes_the_layer(&mut sim, id, layer);
+    }
+
+    /// Regression: a flight asleep in open space (no watch: the broad phase's distance map let
+    /// it sleep) must be woken when a layer's allowance grows into its path.
+    #[test]
+    fn a_grown_allowance_wakes_a_flight_asleep_in_open_space_that_comes_near_it() {
+        let mut sim = slow_wall();
+        let (id, height) = sleeper(&mut sim, false, (0.1, 0.2));
+        let layer = height - 0.005;
+        raise_wall(&mut sim, layer);
+        super::super::layers::grow_allowances(&sim.config.clone(), &mut sim.state, true);
+        assert!(awake(&sim, id), "the particle sleeps on into the grown allowance");
+        strikes_the_layer(&mut sim, id, layer);
+    }
+
+    /// A grown zone wakes the sleepers whose flight comes near it, and no others.
+    #[test]
+    fn a_zone_wakes_only_the_flights_that_come_near_it() {
+        use crate::collision::Aabb;
+        use glam::DVec3;
+        let mut sim = slow_wall();
+        for _ in 0..300 {
+            sim.step();
+        }
+        let asleep = |sim: &Simulation| {
+            (0..sim.state.swarm.len()).filter(|&i| !awake(sim, sim.state.swarm.id[i])).count()
+        };
+        let before = asleep(&sim);
+        assert!(before > 100, "only {before} particles asleep");
+        // Behind the wall, where nothing flies.
+        let behind = Aabb { min: DVec3::new(0.5, -2.0, -1.0), max: DVec3::new(1.0, 2.0, 3.0) };
+        super::wake_near(&sim.config.clone(), &mut sim.state, &[behind]);
+        assert_eq!(asleep(&sim), before);
+        // A slab across the flights' way from the nozzle (gravity is along z, so x(t) is
+        // linear): the flights wholly past it sleep on, some that cross it are woken.
+        let across = Aabb { min: DVec3::new(-0.95, -2.0, -1.0), max: DVec3::new(-0.9, 2.0, 3.0) };
+        let past: Vec<u32> = {
+            let s = &sim.state;
+            (0..s.swarm.len())
+                .filter(|&i| !awake(&sim, s.swarm.id[i]))
+                .filter(|&i| {
+                    let (x, v, _) = sim.particle_now(i);
+                    let left = (u64::from(s.swarm.wake[i]) - s.step - 1) as f64 * sim.config.dt;
+                    x.x.min(x.x + v.x * left) > -0.89
+                })
+                .map(|i| s.swarm.id[i])
+                .collect()
+        };
+        assert!(!past.is_empty());
+        super::wake_near(&sim.config.clone(), &mut sim.state, &[across]);
+        assert!(asleep(&sim) < before, "nobody crossing the slab was woken");
+        assert!(past.iter().all(|&id| !awake(&sim, id)), "a flight wholly past the slab was woken");
     }
 }
