@@ -89,11 +89,22 @@ impl MaxPyramid {
         Nodes { level: k as u32, cols: span((c0, c1)), rows: span((r0, r1)), stride }
     }
 
-    /// The bound of node `(col, row)` of level `k` over `cells` (level 0: the cell itself).
+    /// The bound of node `(col, row)` of level `k` over `cells` (level 0: the cell itself);
+    /// infinite for a node outside the pyramid, which bounds nothing.
     #[inline]
     pub(crate) fn bound(&self, cells: &[f64], cols: usize, k: u32, col: u32, row: u32) -> f64 {
-        let (col, row) = (col as usize, row as usize);
-        if k == 0 { cells[row * cols + col] } else { self.node(k as usize, col, row) }
+        let (k, col, row) = (k as usize, col as usize, row as usize);
+        let (level, cols): (&[f64], usize) = match k {
+            0 => (cells, cols),
+            _ => match self.levels.get(k - 1) {
+                Some(l) => (l, self.cols[k - 1]),
+                None => return f64::INFINITY,
+            },
+        };
+        if col >= cols {
+            return f64::INFINITY;
+        }
+        level.get(row * cols + col).copied().unwrap_or(f64::INFINITY)
     }
 
     /// Writes every level.

@@ -204,6 +204,9 @@ impl Watches {
             if active.iter().any(|&n| entries.get(n as usize).is_none_or(Vec::is_empty)) {
                 return Err(StateError::Mismatch("a watched node without watchers".into()));
             }
+            if stride == 0 && !active.is_empty() {
+                return Err(StateError::Mismatch("watched nodes in a level without columns".into()));
+            }
             Ok(Level { stride, low: entries.iter().map(|e| lowest(e)).collect(), entries, active })
         };
         let prune_at = d.usize()?;
