@@ -380,33 +380,35 @@ mod tests {
         s.swarm.id.binary_search(&id).ok().is_none_or(|i| u64::from(s.swarm.wake[i]) <= s.step + 1)
     }
 
+    /// Finds a sleeper (see [`sleeper`]), raises the wall's layer to 5 mm below it, lets `wake`
+    /// react, and asserts that the particle is awake and then strikes the layer's top.
+    fn meets_the_grown_layer(watched: bool, heights: (f64, f64), wake: fn(&mut Simulation)) {
+        let mut sim = slow_wall();
+        let (id, height) = sleeper(&mut sim, watched, heights);
+        let layer = height - 0.005;
+        raise_wall(&mut sim, layer);
+        wake(&mut sim);
+        assert!(awake(&sim, id), "the particle sleeps on into the grown layer");
+        strikes_the_layer(&mut sim, id, layer);
+    }
+
     /// Regression: a flight put to sleep over a layer must meet the layer that grows into its
     /// path while it sleeps, not the bare surface under it (which it would if nothing woke it:
     /// it would wake inside the layer, and a path that starts inside a layer never enters it).
+    /// Its watch wakes it (the broad phase would too, at the end of the step, for a layer this
+    /// much thicker than before: the watch must not rely on that).
     #[test]
     fn a_sleeping_flight_meets_the_layer_grown_into_its_path() {
-        let mut sim = slow_wall();
-        let (id, height) = sleeper(&mut sim, true, (0.02, 1.0));
-        let layer = height - 0.005;
-        raise_wall(&mut sim, layer);
-        // Its watch wakes it (the broad phase would too, at the end of the step, for a layer
-        // this much thicker than before: the watch must not rely on that).
-        super::run(&sim.config, &mut sim.state);
-        assert!(awake(&sim, id), "the particle sleeps on over the grown layer");
-        strikes_the_layer(&mut sim, id, layer);
+        meets_the_grown_layer(true, (0.02, 1.0), |sim| super::run(&sim.config, &mut sim.state));
     }
 
     /// Regression: a flight asleep in open space (no watch: the broad phase's distance map let
     /// it sleep) must be woken when a layer's allowance grows into its path.
     #[test]
     fn a_grown_allowance_wakes_a_flight_asleep_in_open_space_that_comes_near_it() {
-        let mut sim = slow_wall();
-        let (id, height) = sleeper(&mut sim, false, (0.1, 0.2));
-        let layer = height - 0.005;
-        raise_wall(&mut sim, layer);
-        super::super::layers::grow_allowances(&sim.config.clone(), &mut sim.state, true);
-        assert!(awake(&sim, id), "the particle sleeps on into the grown allowance");
-        strikes_the_layer(&mut sim, id, layer);
+        meets_the_grown_layer(false, (0.1, 0.2), |sim| {
+            super::super::layers::grow_allowances(&sim.config.clone(), &mut sim.state, true)
+        });
     }
 
     /// A grown zone wakes the sleepers whose flight comes near it, and no others.
