@@ -306,9 +306,9 @@ impl HeightField {
         (gu, gv)
     }
 
-    /// The nodes of the bounds (blocks of 4 × 4 cells or larger) that cover the cells under
-    /// the rectangle `u` × `v` (m, in-face coordinates, clamped to the field), and the
-    /// largest of their bounds, m.
+    /// The nodes of the bounds (blocks of 4 × 4 cells or larger, or the root of a smaller field)
+    /// that cover the cells under the rectangle `u` × `v` (m, in-face coordinates, clamped to
+    /// the field), and the largest of their bounds, m.
     pub fn nodes_under(&self, u: (f64, f64), v: (f64, f64)) -> (Nodes, f64) {
         let (a, b) = (self.cell_at(u.0, v.0) as usize, self.cell_at(u.1, v.1) as usize);
         let ((c0, r0), (c1, r1)) = ((a % self.cols, a / self.cols), (b % self.cols, b / self.cols));
