@@ -278,9 +278,10 @@ impl PySimulation {
     /// float64 array: row 0 is the target's bottom edge (rows grow along its `up`), columns grow
     /// along `right` = `up × normal` (the viewer's right, looking at the target from the spray
     /// side): plot it with `origin="lower"`. On a cylinder shell the unrolled (along the axis,
-    /// around it) map; on a mesh one value per triangle, in the file's order. With `copy=False` (the default) a read-only view of the simulation's
-    /// own memory, no copy: it shows later steps as they happen (do not read it while another
-    /// thread runs this simulation); `copy=True` gives an independent array.
+    /// around it) map; on a mesh one value per triangle, in the file's order. With
+    /// `copy=False` (the default) a read-only view of the simulation's own memory, no copy: it
+    /// shows later steps as they happen (do not read it while another thread runs this
+    /// simulation); `copy=True` gives an independent array.
     #[pyo3(signature = (target, copy = false))]
     fn thickness<'py>(
         slf: &Bound<'py, Self>,

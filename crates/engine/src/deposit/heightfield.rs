@@ -313,13 +313,13 @@ impl HeightField {
         let (a, b) = (self.cell_at(u.0, v.0) as usize, self.cell_at(u.1, v.1) as usize);
         let ((c0, r0), (c1, r1)) = ((a % self.cols, a / self.cols), (b % self.cols, b / self.cols));
         let nodes = self.bounds.cover((c0, c1), (r0, r1), WATCH_LEVEL);
-        (nodes, self.bounds.max_over(&self.thickness, self.cols, &nodes))
+        (nodes, self.bounds.max_over(&self.thickness, &nodes))
     }
 
     /// An upper bound of the thickness over node `(col, row)` of level `level` of the bounds
     /// (blocks of `2ˡᵉᵛᵉˡ` cells; level 0: the cell), m.
     pub fn node_bound(&self, level: u32, col: u32, row: u32) -> f64 {
-        self.bounds.bound(&self.thickness, self.cols, level, col, row)
+        self.bounds.bound(&self.thickness, level, col, row)
     }
 
     /// Column and row of the cell under `p`.
@@ -397,7 +397,7 @@ impl HeightField {
     ) -> Option<LayerContact> {
         let sag = chart.sag(p0, p1);
         let (cols, rows) = self.footprint(chart, p0, p1);
-        if h0.min(h1) - sag > self.bounds.max_in(&self.thickness, self.cols, cols, rows) {
+        if h0.min(h1) - sag > self.bounds.max_in(&self.thickness, cols, rows) {
             return None;
         }
         // The thickest layer under the segment, from the blocks of 16 × 16 cells its footprint

@@ -57,20 +57,20 @@ impl MaxPyramid {
     }
 
     /// An upper bound of the cells in columns `c0..=c1` and rows `r0..=r1` of `cells` (the
-    /// grid, `cols` per row): the up to 2 × 2 nodes of the lowest level that covers the
-    /// rectangle with them.
+    /// grid the pyramid was made for, row-major): the up to 2 × 2 nodes of the lowest level
+    /// that covers the rectangle with them.
     #[inline]
-    pub(crate) fn max_in(&self, cells: &[f64], cols: usize, c: (usize, usize), r: (usize, usize)) -> f64 {
-        self.max_over(cells, cols, &self.cover(c, r, 0))
+    pub(crate) fn max_in(&self, cells: &[f64], c: (usize, usize), r: (usize, usize)) -> f64 {
+        self.max_over(cells, &self.cover(c, r, 0))
     }
 
     /// The largest bound of `nodes`.
     #[inline]
-    pub(crate) fn max_over(&self, cells: &[f64], cols: usize, nodes: &Nodes) -> f64 {
+    pub(crate) fn max_over(&self, cells: &[f64], nodes: &Nodes) -> f64 {
         let mut top = 0.0_f64;
         for row in nodes.rows.0..=nodes.rows.1 {
             for col in nodes.cols.0..=nodes.cols.1 {
-                top = top.max(self.bound(cells, cols, nodes.level, col, row));
+                top = top.max(self.bound(cells, nodes.level, col, row));
             }
         }
         top
@@ -89,13 +89,14 @@ impl MaxPyramid {
         Nodes { level: k as u32, cols: span((c0, c1)), rows: span((r0, r1)), stride }
     }
 
-    /// The bound of node `(col, row)` of level `k` over `cells` (level 0: the cell itself);
+    /// The bound of node `(col, row)` of level `k` over `cells` (the grid; level 0: the cell
+    /// itself);
     /// infinite for a node outside the pyramid, which bounds nothing.
     #[inline]
-    pub(crate) fn bound(&self, cells: &[f64], cols: usize, k: u32, col: u32, row: u32) -> f64 {
+    pub(crate) fn bound(&self, cells: &[f64], k: u32, col: u32, row: u32) -> f64 {
         let (k, col, row) = (k as usize, col as usize, row as usize);
         let (level, cols): (&[f64], usize) = match k {
-            0 => (cells, cols),
+            0 => (cells, self.cols0),
             _ => match self.levels.get(k - 1) {
                 Some(l) => (l, self.cols[k - 1]),
                 None => return f64::INFINITY,
@@ -145,13 +146,13 @@ mod tests {
             let exact =
                 (r0..=r1).flat_map(|r| (c0..=c1).map(move |c| (r, c))).map(|(r, c)| cells[r * cols + c]);
             let exact = exact.fold(0.0_f64, f64::max);
-            let bound = p.max_in(&cells, cols, (c0, c1), (r0, r1));
+            let bound = p.max_in(&cells, (c0, c1), (r0, r1));
             assert!(bound >= exact, "{bound} < {exact}");
             // The nodes used cover at most twice the rectangle along each axis plus a block:
             // the bound is the exact maximum over that region.
             assert!(bound <= cells.iter().copied().fold(0.0, f64::max));
         }
         // A single cell is answered from the grid itself.
-        assert_eq!(p.max_in(&cells, cols, (4, 4), (7, 7)), cells[7 * cols + 4]);
+        assert_eq!(p.max_in(&cells, (4, 4), (7, 7)), cells[7 * cols + 4]);
     }
 }
