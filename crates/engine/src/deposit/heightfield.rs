@@ -2,6 +2,7 @@
 //! where a path enters the layer.
 
 use super::pyramid::MaxPyramid;
+use super::sums::{BlockSums, MEAN_SPAN, SUM_LEVELS};
 use super::{Chart, Nodes};
 use crate::checkpoint::{Dec, Enc, StateError};
 use glam::DVec3;
@@ -47,6 +48,9 @@ pub struct HeightField {
     /// Upper bounds of the thickness over blocks of every power-of-two size, m: bound the
     /// layer under a path without visiting its cells.
     bounds: MaxPyramid,
+    /// Sums of the thickness over blocks of 2 × 2 to 8 × 8 cells: a mean over a wide disc
+    /// visits blocks, not cells.
+    sums: BlockSums,
     /// Cell offsets `(col, row)` of the deposit footprint.
     splat: Vec<(isize, isize)>,
     /// Half-width of the footprint in cells `(cols, rows)`, at least 1: the scale at which the
@@ -87,6 +91,7 @@ impl HeightField {
             hits: vec![0; cols * rows],
             max_thickness: 0.0,
             bounds: MaxPyramid::new(cols, rows),
+            sums: BlockSums::new(cols, rows),
             reach: (reach_x.max(1) as usize, reach_y.max(1) as usize),
             splat,
             changed: ChangedCells::new(cols * rows),
@@ -112,6 +117,8 @@ impl HeightField {
         self.max_thickness = d.f64()?;
         self.bounds.load_state(d)?;
         self.changed.0 = d.list_of(self.changed.0.len(), "a heightfield's changes", 8, Dec::u64)?;
+        // Made afresh from the thicknesses, exactly as they were kept.
+        self.refresh_sums((0, self.cols - 1), (0, self.rows - 1));
         Ok(())
     }
 
@@ -120,6 +127,8 @@ impl HeightField {
     pub fn set_holes(&mut self, hole: Vec<bool>) {
         debug_assert_eq!(hole.len(), self.thickness.len());
         self.hole = if hole.iter().any(|&h| h) { hole } else { Vec::new() };
+        self.sums.recount(&self.hole);
+        self.refresh_sums((0, self.cols - 1), (0, self.rows - 1));
     }
 
     /// Makes the columns periodic (`true`): column `cols` is column 0 again, as on a full turn
@@ -163,6 +172,7 @@ impl HeightField {
         let take = (volume / area).min(*t);
         *t -= take;
         self.mark(cell as usize);
+        self.refresh_cell(cell as usize);
         take * area
     }
 
@@ -174,6 +184,18 @@ impl HeightField {
         self.thickness[c] = t;
         self.raise_bounds(c, t);
         self.mark(c);
+        self.refresh_cell(c);
+    }
+
+    /// Brings the block sums over cell `c` up to date.
+    fn refresh_cell(&mut self, c: usize) {
+        let (col, row) = (c % self.cols, c / self.cols);
+        self.refresh_sums((col, col), (row, row));
+    }
+
+    /// Brings the block sums over columns `cols` and rows `rows` (inclusive) up to date.
+    fn refresh_sums(&mut self, cols: (usize, usize), rows: (usize, usize)) {
+        self.sums.refresh(&self.thickness, &self.hole, cols, rows);
     }
 
     fn raise_bounds(&mut self, c: usize, t: f64) {
@@ -246,23 +268,52 @@ impl HeightField {
         };
         let n = self.splat.iter().filter(|&&(i, j)| target(i, j).is_some()).count();
         let added = volume / (n as f64 * self.cell_area());
+        // The block sums are brought up to date once over the footprint's rectangle, or cell by
+        // cell where it wraps round a periodic grid.
+        let (mut lo, mut hi, mut wrapped) = ((usize::MAX, usize::MAX), (0, 0), false);
         for k in 0..self.splat.len() {
             let (i, j) = self.splat[k];
             let Some(c) = target(i, j) else { continue };
             self.thickness[c] += added;
             self.raise_bounds(c, self.thickness[c]);
             self.mark(c);
+            let (cc, cr) = (c % ncols, c / ncols);
+            wrapped |= cc as isize != col + i;
+            (lo, hi) = ((lo.0.min(cc), lo.1.min(cr)), (hi.0.max(cc), hi.1.max(cr)));
         }
         self.hole = hole;
+        if wrapped {
+            for &(i, j) in &self.splat.clone() {
+                if let Some(c) = column_of(col + i, ncols, wrap).filter(|_| (0..rows).contains(&(row + j))) {
+                    self.refresh_cell((row + j) as usize * ncols + c);
+                }
+            }
+        } else if lo.0 <= hi.0 {
+            self.refresh_sums((lo.0, hi.0), (lo.1, hi.1));
+        }
     }
 
     /// Mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s (all
     /// cells have the same area; holes do not count), m.
+    ///
+    /// A disc more than 12 cells wide in radius is averaged over blocks instead (of 2 × 2 cells
+    /// and up, the first size at which it is at most 12 blocks wide): the blocks whose centres
+    /// lie within `radius`, each weighed by its cells. The disc's rim moves by at most half a
+    /// block, and the work no longer grows with the resolution.
     pub fn mean_around(&self, cell: u32, radius: f64) -> f64 {
         let (dx, dy) = self.cell_size();
         let (rx, ry) = ((radius / dx).floor() as isize, (radius / dy).floor() as isize);
         if rx == 0 && ry == 0 {
             return self.thickness[cell as usize];
+        }
+        let span = rx.max(ry) as usize;
+        if span > MEAN_SPAN {
+            let k = (1..=SUM_LEVELS).find(|&k| span >> k <= MEAN_SPAN).unwrap_or(SUM_LEVELS);
+            // Whole blocks only round a periodic grid, and at most one turn of them.
+            let side = 1 << k;
+            if !self.wrap || (self.cols.is_multiple_of(side) && 2 * rx as usize + 2 * side < self.cols) {
+                return self.block_mean(cell, radius, k);
+            }
         }
         let (cols, rows) = (self.cols as isize, self.rows as isize);
         let (row, col) = (cell as isize / cols, cell as isize % cols);
@@ -281,6 +332,31 @@ impl HeightField {
             }
         }
         if n > 0.0 { sum / n } else { 0.0 }
+    }
+
+    /// [`HeightField::mean_around`] over the blocks of level `k` of the sums.
+    fn block_mean(&self, cell: u32, radius: f64, k: usize) -> f64 {
+        let b = self.sums.level(k);
+        let (dx, dy) = self.cell_size();
+        let (row, col) = ((cell as usize / self.cols) as isize, (cell as usize % self.cols) as isize);
+        let side = b.side as isize;
+        let (rx, ry) = ((radius / dx).floor() as isize, (radius / dy).floor() as isize);
+        // A block's centre, in cells from the grid's corner: its cells' centres' mean.
+        let centre = |n: isize| (n * side) as f64 + 0.5 * (side - 1) as f64;
+        let (mut sum, mut n) = (0.0, 0u32);
+        for j in ((row - ry).max(0) >> k)..=((row + ry).min(self.rows as isize - 1) >> k) {
+            let y = (centre(j) - row as f64) * dy;
+            for i in (col - rx).div_euclid(side)..=(col + rx).div_euclid(side) {
+                let Some(bi) = column_of(i, b.cols, self.wrap) else { continue };
+                let x = (centre(i) - col as f64) * dx;
+                if x * x + y * y <= radius * radius {
+                    let at = j as usize * b.cols + bi;
+                    sum += b.sum[at];
+                    n += u32::from(b.cells[at]);
+                }
+            }
+        }
+        if n > 0 { sum / f64::from(n) } else { 0.0 }
     }
 
     /// An upper bound of every cell's thickness, m.
@@ -590,6 +666,86 @@ mod tests {
             met += usize::from(fast.is_some());
         }
         assert!(met > 100, "only {met} contacts");
+    }
+
+    /// The disc mean by brute force over cells, holes left out.
+    fn cell_mean(f: &HeightField, cell: u32, radius: f64) -> f64 {
+        let (dx, dy) = f.cell_size();
+        let (row, col) = ((cell as usize / f.cols) as isize, (cell as usize % f.cols) as isize);
+        let (mut sum, mut n) = (0.0, 0.0);
+        for c in 0..f.thickness.len() {
+            let (j, i) = ((c / f.cols) as isize, (c % f.cols) as isize);
+            let di = if f.wrap { (i - col).rem_euclid(f.cols as isize) } else { i - col };
+            let di = if f.wrap && di > f.cols as isize / 2 { di - f.cols as isize } else { di };
+            let (x, y) = (di as f64 * dx, (j - row) as f64 * dy);
+            if x * x + y * y <= radius * radius && !f.is_hole(c as u32) {
+                sum += f.thickness[c];
+                n += 1.0;
+            }
+        }
+        sum / n
+    }
+
+    /// A disc 20 cells wide in radius is averaged over 2 × 2 blocks: on a uniform layer with
+    /// holes it gives the layer exactly, and on a sloping one it moves the mean from the mean
+    /// over cells (whose disc is centred) by no more than the slope over half a cell.
+    #[test]
+    fn a_wide_mean_over_blocks_agrees_with_the_mean_over_cells() {
+        for wrap in [false, true] {
+            let (cols, rows) = (160, 90);
+            let mut f = HeightField::new(0.4, 0.225, cols, rows, 0.0); // 2.5 mm cells
+            f.set_wrap(wrap);
+            f.set_holes((0..cols * rows).map(|c| (c / cols) % 17 == 4 && c % 5 == 0).collect());
+            let radius = 0.05;
+            for c in 0..cols * rows {
+                f.add(c as u32, 1e-3);
+            }
+            let probes = [0, 77, 5 * cols + 3, 45 * cols + 80, 89 * cols + 159, 30 * cols + 158];
+            for &c in &probes {
+                let (m, want) = (f.mean_around(c as u32, radius), cell_mean(&f, c as u32, radius));
+                assert!((m - 1e-3).abs() < 1e-15 && (want - 1e-3).abs() < 1e-15, "uniform, {c}: {m} {want}");
+            }
+            // A slope of 0.02 along both axes (periodic along the columns on a wrapped grid).
+            let slope = 0.02;
+            for c in 0..cols * rows {
+                let (i, j) = ((c % cols) as f64, (c / cols) as f64);
+                let u = if wrap {
+                    0.4 / std::f64::consts::TAU * (std::f64::consts::TAU * i / cols as f64).sin()
+                } else {
+                    i * 2.5e-3
+                };
+                f.add(c as u32, slope * (u + j * 2.5e-3));
+            }
+            for &c in &probes {
+                let (m, want) = (f.mean_around(c as u32, radius), cell_mean(&f, c as u32, radius));
+                // A block's centre lies half a cell (1.25 mm) from the centre of its cells nearest
+                // the disc's centre.
+                assert!((m - want).abs() <= slope * 1.25e-3, "wrap {wrap}, cell {c}: {m} against {want}");
+            }
+        }
+    }
+
+    /// Deposits, additions and removals, round the seam of a periodic grid and beside holes,
+    /// keep every block sum equal to the sum made afresh from the cells.
+    #[test]
+    fn the_block_sums_follow_every_change_of_the_layer() {
+        let (cols, rows) = (48, 20);
+        let mut f = HeightField::new(0.48, 0.2, cols, rows, 0.03);
+        f.set_wrap(true);
+        f.set_holes((0..cols * rows).map(|c| c % 11 == 2).collect());
+        for (k, &cell) in [0u32, 47, 500, 959, 24, 13].iter().enumerate() {
+            f.deposit(cell, 1e-7 * (k + 1) as f64);
+        }
+        f.add(30, 2e-3);
+        f.remove(47, 1e-8);
+        f.add(500, -1e-3);
+        let mut fresh = BlockSums::new(cols, rows);
+        fresh.recount(&f.hole);
+        fresh.refresh(&f.thickness, &f.hole, (0, cols - 1), (0, rows - 1));
+        for k in 1..=SUM_LEVELS {
+            assert_eq!(f.sums.level(k).sum, fresh.level(k).sum, "level {k}");
+            assert_eq!(f.sums.level(k).cells, fresh.level(k).cells, "level {k}");
+        }
     }
 
     #[test]

@@ -14,6 +14,7 @@ mod heightfield;
 mod mesh;
 mod openings;
 mod pyramid;
+mod sums;
 
 pub use chart::{Chart, ShellChart};
 pub use grid::{CylinderSurface, GridSurface, RectangleSurface};

@@ -28,7 +28,7 @@ use crate::collision::Scene;
 use crate::config::{ConfigError, SimulationConfig};
 use crate::emission::NozzlePath;
 use crate::events::{Both, EventHandler, FailureEvent, ImpactEvent, ImpactLog};
-use crate::motion::Integrator;
+use crate::motion::{Integrator, Lanes};
 use crate::particles::{StreamKey, Swarm};
 use crate::process::{ImpactModel, LayerStage};
 use crate::tally::{PathTally, Tally};
@@ -144,6 +144,8 @@ pub struct Simulation {
     workers: Workers,
     /// See [`Simulation::set_lazy_flight`].
     lazy_flight: bool,
+    /// See [`Simulation::set_lanes`].
+    lanes: Lanes,
 }
 
 impl Simulation {
@@ -157,7 +159,7 @@ impl Simulation {
     /// with bit-identical results, but reusing the broad phase when the geometry (the targets'
     /// and obstacles' shapes and the domain) is unchanged: in a loop of many runs of one scene
     /// (calibration, trajectory optimisation, seeds) the index is built once. The thread and
-    /// lazy-flight settings are kept. On an error nothing changes.
+    /// lazy-flight and lane settings are kept. On an error nothing changes.
     ///
     /// ```
     /// use spraysim_engine::{Simulation, SimulationConfig};
@@ -341,8 +343,15 @@ impl Simulation {
             let time = self.time();
             emit::run(&self.config, &self.plan, &mut self.state, &self.workers, &mut both);
             let lazy = self.lazy();
-            let outcomes =
-                update::run(&self.config, &self.plan, &mut self.state, &self.workers, lazy, capture);
+            let outcomes = update::run(
+                &self.config,
+                &self.plan,
+                &mut self.state,
+                &self.workers,
+                lazy,
+                self.lanes,
+                capture,
+            );
             apply::run(&mut self.state, outcomes, &mut both);
             layers::run(&self.config, &self.plan, &mut self.state, &mut both);
             watch::run(&self.config, &mut self.state);
@@ -366,6 +375,18 @@ impl Simulation {
         if !on {
             watch::wake_all(&self.config, &mut self.state);
         }
+    }
+
+    /// Chooses the instruction set of the free-flight kernel (see [`crate::motion::lanes`]): by
+    /// default the widest this processor runs. Results are bit-identical on every one; this is
+    /// for measuring what the lanes are worth.
+    pub fn set_lanes(&mut self, lanes: Lanes) {
+        self.lanes = lanes;
+    }
+
+    /// The instruction set the free-flight kernel runs on, on this processor.
+    pub fn lanes(&self) -> Lanes {
+        self.lanes.effective()
     }
 
     /// Heap memory (bytes) of what the event-driven flight keeps beside the swarm: the layer

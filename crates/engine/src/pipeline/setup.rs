@@ -80,7 +80,7 @@ pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simu
         impact_log: (c.impact_log > 0.0).then(|| ImpactLog::new(c.impact_log, c.seed)),
         watches: super::watch::Watches::new(c.targets.len()),
     };
-    Simulation { config, plan, state, workers: Workers::Global, lazy_flight: true }
+    Simulation { config, plan, state, workers: Workers::Global, lazy_flight: true, lanes: Default::default() }
 }
 
 /// A target's record at time 0: its surface bare (or as configured), nothing struck yet.

@@ -9,7 +9,8 @@ use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceId, Surface
 use crate::config::SimulationConfig;
 use crate::deposit::{Clearance, DepositSurface, LayerContact};
 use crate::events::{ImpactEvent, sampled};
-use crate::motion::{Integrator, Motion};
+use crate::motion::lanes::{BLOCK, Drift, Limits, drift};
+use crate::motion::{Integrator, Lanes, Motion};
 use crate::particles::{MATERIAL_EVENT, StreamKey, Volumes, flags};
 use crate::process::{ImpactModel, ImpactSite, Outcome};
 use crate::tally::Amount;
@@ -26,6 +27,7 @@ pub(super) fn run(
     state: &mut State,
     workers: &Workers,
     lazy: bool,
+    lanes: Lanes,
     capture: Capture,
 ) -> Vec<ChunkOutcome> {
     let ctx = UpdateContext {
@@ -44,6 +46,7 @@ pub(super) fn run(
         capture,
         step: state.step,
         lazy,
+        lanes,
     };
     let s = &mut state.swarm;
     state.particle_steps += (s.len() - state.retired) as u64;
@@ -190,6 +193,8 @@ pub(crate) struct UpdateContext<'a> {
     pub step: u64,
     /// Particles in free flight skip steps (exact integrator only).
     pub lazy: bool,
+    /// Instruction set of the free-flight kernel.
+    pub lanes: Lanes,
 }
 
 /// Mutable views of one chunk of the swarm's arrays.
@@ -205,27 +210,48 @@ pub(crate) struct SwarmChunk<'a> {
 }
 
 impl UpdateContext<'_> {
-    /// Advances every live particle of `chunk` by one step.
+    /// Advances every live particle of `chunk` by one step: the free-flight kernel steps a
+    /// block of slots in f64 lanes, then a scalar pass keeps its answer for each particle whose
+    /// step is clear in the broad phase and works out the others in full.
     pub fn run_chunk(&self, mut chunk: SwarmChunk<'_>) -> ChunkOutcome {
         let mut out = ChunkOutcome::default();
-        for i in 0..chunk.pos.len() {
-            if chunk.flags[i] & flags::ALIVE == 0 || u64::from(chunk.wake[i]) > self.step {
+        let mut next = Drift::default();
+        let limits = Limits { domain: self.domain, max_age: self.max_lifetime };
+        for start in (0..chunk.pos.len()).step_by(BLOCK) {
+            let end = (start + BLOCK).min(chunk.pos.len());
+            let flying =
+                |i: usize| chunk.flags[i] & flags::ALIVE != 0 && u64::from(chunk.wake[i]) <= self.step;
+            // Event-driven flight leaves most slots asleep: a sparse block is stepped slot by
+            // slot (with identical results), a dense one in lanes.
+            let awake = (start..end).filter(|&i| flying(i)).count();
+            if awake * 4 >= end - start {
+                let slots = (&chunk.pos[start..end], &chunk.vel[start..end], &chunk.age[start..end]);
+                drift(self.lanes, &self.motion, self.dt, &limits, slots, &mut next);
+            } else if awake > 0 {
+                for i in (start..end).filter(|&i| flying(i)) {
+                    let slot = (chunk.pos[i], chunk.vel[i], chunk.age[i]);
+                    next.step_one(i - start, &self.motion, self.dt, &limits, slot);
+                }
+            } else {
                 continue;
             }
-            out.updated += 1;
-            let age = f64::from(chunk.age[i]) + self.dt;
-            chunk.age[i] = age as f32;
-            let (x, v) = (chunk.pos[i], chunk.vel[i]);
-            let (x1, v1) = self.motion.advance(x, v, self.dt);
-            // Free flight, the common case: nothing to hit, nothing to retire.
-            if self.is_clear(x, v, x1) && self.domain.contains(x1) && age <= self.max_lifetime {
-                chunk.pos[i] = x1;
-                chunk.vel[i] = v1;
-            } else {
-                self.advance_slow(&mut chunk, i, age, &mut out);
-            }
-            if self.lazy && chunk.flags[i] & flags::ALIVE != 0 {
-                self.doze(&mut chunk, i, &mut out.watch);
+            for (j, i) in (start..end).enumerate() {
+                if chunk.flags[i] & flags::ALIVE == 0 || u64::from(chunk.wake[i]) > self.step {
+                    continue;
+                }
+                out.updated += 1;
+                let age = f64::from(chunk.age[i]) + self.dt;
+                chunk.age[i] = next.age[j];
+                // Free flight, the common case: nothing to hit, nothing to retire.
+                if next.stays[j] && self.is_clear(chunk.pos[i], chunk.vel[i], next.pos[j]) {
+                    chunk.pos[i] = next.pos[j];
+                    chunk.vel[i] = next.vel[j];
+                } else {
+                    self.advance_slow(&mut chunk, i, age, &mut out);
+                }
+                if self.lazy && chunk.flags[i] & flags::ALIVE != 0 {
+                    self.doze(&mut chunk, i, &mut out.watch);
+                }
             }
         }
         out

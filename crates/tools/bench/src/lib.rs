@@ -10,7 +10,7 @@
 
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::RectangleSurface;
-use spraysim_engine::motion::Integrator;
+use spraysim_engine::motion::{Integrator, Lanes};
 use spraysim_scenario::{Scenario, ScenarioError};
 use std::fmt::Write;
 use std::time::Instant;
@@ -290,8 +290,15 @@ impl Measurement {
 
 /// Runs `scenario` to the end on `threads` threads (0: all cores) and times it.
 pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, BenchError> {
+    measure_on(scenario, threads, Lanes::default())
+}
+
+/// [`measure`] with the free-flight kernel on the instruction set `lanes` (or the portable
+/// one where this processor lacks it).
+pub fn measure_on(scenario: &Scenario, threads: usize, lanes: Lanes) -> Result<Measurement, BenchError> {
     let mut sim = scenario.build()?;
     sim.set_threads(threads)?;
+    sim.set_lanes(lanes);
     let start = Instant::now();
     sim.run(|_| {});
     let wall = start.elapsed().as_secs_f64();
@@ -314,12 +321,14 @@ pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, Bench
 pub fn measure_median(
     scenario: &Scenario,
     threads: usize,
+    lanes: Lanes,
     repeats: usize,
 ) -> Result<Measurement, BenchError> {
     let s = scenario.simulation();
     let warm = scenario.with("simulation.duration", (0.1 * s.duration).max(s.dt))?;
-    measure(&warm, threads)?;
-    let mut runs = (0..repeats.max(1)).map(|_| measure(scenario, threads)).collect::<Result<Vec<_>, _>>()?;
+    measure_on(&warm, threads, lanes)?;
+    let mut runs =
+        (0..repeats.max(1)).map(|_| measure_on(scenario, threads, lanes)).collect::<Result<Vec<_>, _>>()?;
     runs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
     Ok(runs.swap_remove(runs.len() / 2))
 }
@@ -351,23 +360,29 @@ pub struct MatrixSettings {
     pub variants: usize,
 }
 
-/// The reference scene and its scaling variants, each as a name, a scene and a thread count.
-fn variants(m: &MatrixSettings, all: usize) -> Vec<(String, ReferenceScene, usize)> {
+/// One row of the table: a name, a scene, a thread count and the free-flight kernel's lanes.
+type Row = (String, ReferenceScene, usize, Lanes);
+
+/// The reference scene and its scaling variants.
+fn variants(m: &MatrixSettings, all: usize) -> Vec<Row> {
     let base = ReferenceScene { spawn_rate: m.spawn_rate, duration: m.duration, ..ReferenceScene::default() };
     let exact = ReferenceScene { integrator: Integrator::Exact, ..base.clone() };
+    let widest = Lanes::default();
     vec![
-        (format!("reference, {all} threads"), base.clone(), all),
-        ("reference, 1 thread".into(), base.clone(), 1),
+        (format!("reference, {all} threads"), base.clone(), all, widest),
+        ("reference, 1 thread".into(), base.clone(), 1, widest),
+        ("reference, portable lanes (no AVX2)".into(), base.clone(), all, Lanes::Portable),
         (
             "spawn rate ×10".into(),
             ReferenceScene { spawn_rate: m.spawn_rate * 10.0, duration: m.duration / 10.0, ..base.clone() },
             all,
+            widest,
         ),
-        ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all),
-        ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all),
-        ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all),
-        ("event-driven (exact integrator)".into(), exact.clone(), all),
-        ("event-driven, Δt = 10 ms".into(), ReferenceScene { dt: 0.01, ..exact }, all),
+        ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all, widest),
+        ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all, widest),
+        ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all, widest),
+        ("event-driven (exact integrator)".into(), exact.clone(), all, widest),
+        ("event-driven, Δt = 10 ms".into(), ReferenceScene { dt: 0.01, ..exact }, all, widest),
     ]
 }
 
@@ -391,13 +406,16 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
     let all = if m.threads == 0 { cores } else { m.threads };
     let runs = variants(m, all)
         .into_iter()
-        .map(|(name, scene, threads)| Ok((name, scene.scenario()?, threads)))
+        .map(|(name, scene, threads, lanes)| Ok((name, scene.scenario()?, threads, lanes)))
         .collect::<Result<Vec<_>, BenchError>>()?;
     let raster = raster_pass(1e5)?;
     writeln!(
         out,
-        "reference scene, Δt = 1 ms, forward Euler, {:.0} particles/s for {} s unless noted; each row the median of {} timed runs after a warm-up\n",
-        m.spawn_rate, m.duration, m.repeats
+        "reference scene, Δt = 1 ms, forward Euler, {:.0} particles/s for {} s unless noted; free-flight kernel on {:?} lanes unless noted; each row the median of {} timed runs after a warm-up\n",
+        m.spawn_rate,
+        m.duration,
+        Lanes::default().effective(),
+        m.repeats
     )?;
     writeln!(
         out,
@@ -405,8 +423,8 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
     )?;
     writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|")?;
     let mut watches = None;
-    for (name, scenario, threads) in runs {
-        let r = measure_median(&scenario, threads, m.repeats)?;
+    for (name, scenario, threads, lanes) in runs {
+        let r = measure_median(&scenario, threads, lanes, m.repeats)?;
         if scenario.simulation().integrator == Integrator::Exact && watches.is_none() {
             watches = Some(r.watch_bytes as f64 / r.in_flight.max(1) as f64);
         }
