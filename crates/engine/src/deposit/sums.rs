@@ -14,8 +14,9 @@ pub(crate) const SUM_LEVELS: usize = 3;
 /// wider discs use the first level at which they are at most this many blocks wide.
 pub(crate) const MEAN_SPAN: usize = 12;
 
-/// One level: per block, the sum of its cells' thicknesses (m) and how many cells it holds
-/// (holes do not count).
+/// One level: per block, the sum of its cells' thicknesses (m) and, on a grid with holes, how
+/// many cells it holds that are not holes (without holes, the count follows from the grid's
+/// size: a simulation set up afresh counts nothing).
 #[derive(Clone, Debug, Default)]
 struct Level {
     cols: usize,
@@ -41,8 +42,24 @@ pub(crate) struct Blocks<'a> {
     pub cols: usize,
     /// Sum of the thickness over each block's cells, m.
     pub sum: &'a [f64],
-    /// Cells of each block that are not holes.
-    pub cells: &'a [u16],
+    /// Cells of each block that are not holes; empty when the grid has no holes.
+    counts: &'a [u16],
+    /// Columns and rows of the grid.
+    grid: (usize, usize),
+}
+
+impl Blocks<'_> {
+    /// Cells of block `(col, row)` that are not holes.
+    #[inline]
+    pub fn cells(&self, col: usize, row: usize) -> u32 {
+        match self.counts.get(row * self.cols + col) {
+            Some(&n) => u32::from(n),
+            None => {
+                let (c, r) = (self.grid.0 - col * self.side, self.grid.1 - row * self.side);
+                (c.min(self.side) * r.min(self.side)) as u32
+            }
+        }
+    }
 }
 
 impl BlockSums {
@@ -52,24 +69,25 @@ impl BlockSums {
         let (mut c, mut r) = (cols, rows);
         for _ in 0..SUM_LEVELS {
             (c, r) = (c.div_ceil(2), r.div_ceil(2));
-            sums.levels.push(Level { cols: c, rows: r, sum: vec![0.0; c * r], cells: vec![0; c * r] });
+            sums.levels.push(Level { cols: c, rows: r, sum: vec![0.0; c * r], cells: Vec::new() });
         }
-        sums.recount(&[]);
         sums
     }
 
     /// Counts every block's cells again, with `hole` (one flag per cell, or empty for none).
     pub(crate) fn recount(&mut self, hole: &[bool]) {
+        if hole.is_empty() {
+            self.levels.iter_mut().for_each(|l| l.cells = Vec::new());
+            return;
+        }
         let (cols, rows) = (self.cols, self.rows);
         let open = |c: usize| !hole.get(c).copied().unwrap_or(false);
         let mut below: Vec<u16> = (0..cols * rows).map(|c| u16::from(open(c))).collect();
         let (mut bc, mut br) = (cols, rows);
         for level in &mut self.levels {
-            for r in 0..level.rows {
-                for c in 0..level.cols {
-                    level.cells[r * level.cols + c] = children(c, r, bc, br).map(|k| below[k]).sum();
-                }
-            }
+            level.cells = (0..level.rows * level.cols)
+                .map(|k| children(k % level.cols, k / level.cols, bc, br).map(|i| below[i]).sum())
+                .collect();
             below.clone_from(&level.cells);
             (bc, br) = (level.cols, level.rows);
         }
@@ -106,7 +124,7 @@ impl BlockSums {
     /// Level `k` (`1..=SUM_LEVELS`).
     pub(crate) fn level(&self, k: usize) -> Blocks<'_> {
         let l = &self.levels[k - 1];
-        Blocks { side: 1 << k, cols: l.cols, sum: &l.sum, cells: &l.cells }
+        Blocks { side: 1 << k, cols: l.cols, sum: &l.sum, counts: &l.cells, grid: (self.cols, self.rows) }
     }
 }
 
@@ -149,7 +167,14 @@ mod tests {
                     let open: Vec<usize> = (0..cols * rows).filter(|&i| inside(i) && !hole[i]).collect();
                     let want: f64 = open.iter().map(|&i| t[i]).sum();
                     assert!((a.sum[r * a.cols + c] - want).abs() <= 1e-15, "level {k} block ({c}, {r})");
-                    assert_eq!(usize::from(a.cells[r * a.cols + c]), open.len());
+                    assert_eq!(a.cells(c, r) as usize, open.len());
+                    let full = (c * side..((c + 1) * side).min(cols)).len()
+                        * (r * side..((r + 1) * side).min(rows)).len();
+                    assert_eq!(
+                        BlockSums::new(cols, rows).level(k).cells(c, r) as usize,
+                        full,
+                        "without holes"
+                    );
                 }
             }
         }
