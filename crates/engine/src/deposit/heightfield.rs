@@ -286,7 +286,8 @@ impl HeightField {
         }
         self.hole = hole;
         if wrapped {
-            for &(i, j) in &self.splat.clone() {
+            for k in 0..self.splat.len() {
+                let (i, j) = self.splat[k];
                 if let Some(c) = column_of(col + i, ncols, wrap).filter(|_| (0..rows).contains(&(row + j))) {
                     self.refresh_cell((row + j) as usize * ncols + c);
                 }
