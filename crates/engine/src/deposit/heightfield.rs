@@ -273,7 +273,8 @@ impl HeightField {
         let added = volume / (n as f64 * self.cell_area());
         // The block sums are brought up to date once over the footprint's rectangle, or cell by
         // cell where it wraps round a periodic grid.
-        let (mut lo, mut hi, mut wrapped) = ((usize::MAX, usize::MAX), (0, 0), false);
+        let wraps = wrap && self.splat.iter().any(|&(i, _)| !(0..cols).contains(&(col + i)));
+        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
         for k in 0..self.splat.len() {
             let (i, j) = self.splat[k];
             let Some(c) = target(i, j) else { continue };
@@ -281,18 +282,13 @@ impl HeightField {
             self.raise_bounds(c, self.thickness[c]);
             self.mark(c);
             let (cc, cr) = (c % ncols, c / ncols);
-            wrapped |= cc as isize != col + i;
+            if wraps {
+                self.sums.refresh(&self.thickness, &hole, (cc, cc), (cr, cr));
+            }
             (lo, hi) = ((lo.0.min(cc), lo.1.min(cr)), (hi.0.max(cc), hi.1.max(cr)));
         }
         self.hole = hole;
-        if wrapped {
-            for k in 0..self.splat.len() {
-                let (i, j) = self.splat[k];
-                if let Some(c) = column_of(col + i, ncols, wrap).filter(|_| (0..rows).contains(&(row + j))) {
-                    self.refresh_cell((row + j) as usize * ncols + c);
-                }
-            }
-        } else if lo.0 <= hi.0 {
+        if !wraps && lo.0 <= hi.0 {
             self.refresh_sums((lo.0, hi.0), (lo.1, hi.1));
         }
     }
@@ -316,7 +312,7 @@ impl HeightField {
             // Whole blocks only round a periodic grid, and at most one turn of them.
             let side = 1 << k;
             if !self.wrap || (self.cols.is_multiple_of(side) && 2 * rx as usize + 2 * side < self.cols) {
-                return self.block_mean(cell, radius, k);
+                return self.block_mean(cell, radius, (rx, ry), k);
             }
         }
         let (cols, rows) = (self.cols as isize, self.rows as isize);
@@ -338,13 +334,13 @@ impl HeightField {
         if n > 0.0 { sum / n } else { 0.0 }
     }
 
-    /// [`HeightField::mean_around`] over the blocks of level `k` of the sums.
-    fn block_mean(&self, cell: u32, radius: f64, k: usize) -> f64 {
+    /// [`HeightField::mean_around`] over the blocks of level `k` of the sums; `(rx, ry)` is the
+    /// radius in whole cells along each axis.
+    fn block_mean(&self, cell: u32, radius: f64, (rx, ry): (isize, isize), k: usize) -> f64 {
         let b = self.sums.level(k);
         let (dx, dy) = self.cell_size();
         let (row, col) = ((cell as usize / self.cols) as isize, (cell as usize % self.cols) as isize);
         let side = b.side as isize;
-        let (rx, ry) = ((radius / dx).floor() as isize, (radius / dy).floor() as isize);
         // A block's centre, in cells from the grid's corner: its cells' centres' mean.
         let centre = |n: isize| (n * side) as f64 + 0.5 * (side - 1) as f64;
         let (mut sum, mut n) = (0.0, 0u32);

@@ -27,11 +27,6 @@ pub enum Lanes {
 }
 
 impl Lanes {
-    /// The widest instruction set this processor runs.
-    pub fn detect() -> Lanes {
-        if avx2() { Lanes::Avx2 } else { Lanes::Portable }
-    }
-
     /// The instruction set the kernel actually runs when asked for `self` on this processor.
     pub fn effective(self) -> Lanes {
         match self {
@@ -174,7 +169,6 @@ fn each(
     step: impl Fn(DVec3, DVec3) -> (DVec3, DVec3),
 ) {
     let n = pos.len();
-    let (min, max) = (limits.domain.min, limits.domain.max);
     for ((x1, v1), (&x, &v)) in out.pos[..n].iter_mut().zip(&mut out.vel[..n]).zip(pos.iter().zip(vel)) {
         (*x1, *v1) = step(x, v);
     }
@@ -183,8 +177,7 @@ fn each(
     {
         let a = f64::from(a) + dt;
         *a1 = a as f32;
-        let inside = (min.x <= x1.x) & (x1.x <= max.x) & (min.y <= x1.y) & (x1.y <= max.y);
-        *stays = inside & (min.z <= x1.z) & (x1.z <= max.z) & (a <= limits.max_age);
+        *stays = limits.domain.contains(*x1) & (a <= limits.max_age);
     }
 }
 

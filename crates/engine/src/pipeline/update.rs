@@ -219,26 +219,30 @@ impl UpdateContext<'_> {
         let limits = Limits { domain: self.domain, max_age: self.max_lifetime };
         for start in (0..chunk.pos.len()).step_by(BLOCK) {
             let end = (start + BLOCK).min(chunk.pos.len());
-            let flying =
-                |i: usize| chunk.flags[i] & flags::ALIVE != 0 && u64::from(chunk.wake[i]) <= self.step;
+            let mut flying = [false; BLOCK];
+            for (f, i) in flying.iter_mut().zip(start..end) {
+                *f = chunk.flags[i] & flags::ALIVE != 0 && u64::from(chunk.wake[i]) <= self.step;
+            }
             // Event-driven flight leaves most slots asleep: a sparse block is stepped slot by
             // slot (with identical results), a dense one in lanes.
-            let awake = (start..end).filter(|&i| flying(i)).count();
+            let awake = flying.iter().filter(|&&f| f).count();
             if awake * 4 >= end - start {
                 let slots = (&chunk.pos[start..end], &chunk.vel[start..end], &chunk.age[start..end]);
                 drift(self.lanes, &self.motion, self.dt, &limits, slots, &mut next);
             } else if awake > 0 {
-                for i in (start..end).filter(|&i| flying(i)) {
-                    let slot = (chunk.pos[i], chunk.vel[i], chunk.age[i]);
-                    next.step_one(i - start, &self.motion, self.dt, &limits, slot);
+                for (j, i) in (start..end).enumerate().filter(|&(j, _)| flying[j]) {
+                    next.step_one(
+                        j,
+                        &self.motion,
+                        self.dt,
+                        &limits,
+                        (chunk.pos[i], chunk.vel[i], chunk.age[i]),
+                    );
                 }
             } else {
                 continue;
             }
-            for (j, i) in (start..end).enumerate() {
-                if chunk.flags[i] & flags::ALIVE == 0 || u64::from(chunk.wake[i]) > self.step {
-                    continue;
-                }
+            for (j, i) in (start..end).enumerate().filter(|&(j, _)| flying[j]) {
                 out.updated += 1;
                 let age = f64::from(chunk.age[i]) + self.dt;
                 chunk.age[i] = next.age[j];

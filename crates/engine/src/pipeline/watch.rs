@@ -256,17 +256,11 @@ pub(super) fn wake_near(config: &SimulationConfig, state: &mut State, zones: &[A
     let now = state.step + 1;
     let s = &mut state.swarm;
     for i in 0..s.len() {
-        let wake = u64::from(s.wake[i]);
-        if wake <= now {
-            continue;
-        }
-        let back = (wake - now) as f64 * config.dt;
-        let end = Arc { x0: s.pos[i], v0: s.vel[i], g: config.motion.gravity, duration: 0.0 };
-        let rest = Arc { x0: end.at(-back), v0: end.velocity(-back), g: end.g, duration: back };
+        let Some(rest) = rest_of_flight(config, s, i, now) else { continue };
         // Grown by far more than the rounding between this flight and the one stepped later.
         let near = rest.aabb().inflate(ZONE_MARGIN);
         if zones.iter().any(|z| z.overlaps(&near)) {
-            rewind(config, s, i, now);
+            resume(s, i, &rest);
         }
     }
 }
@@ -281,17 +275,31 @@ pub(super) fn wake_all(config: &SimulationConfig, state: &mut State) {
     state.watches.clear();
 }
 
+/// The rest of sleeping particle `i`'s flight, from step `now` to the step it sleeps until (in
+/// closed form, back from where it sleeps); `None` if it does not sleep past `now`.
+fn rest_of_flight(config: &SimulationConfig, s: &Swarm, i: usize, now: u64) -> Option<Arc> {
+    let wake = u64::from(s.wake[i]);
+    (wake > now).then(|| {
+        let back = (wake - now) as f64 * config.dt;
+        let end = Arc { x0: s.pos[i], v0: s.vel[i], g: config.motion.gravity, duration: 0.0 };
+        Arc { x0: end.at(-back), v0: end.velocity(-back), g: end.g, duration: back }
+    })
+}
+
 /// Brings sleeping particle `i` back from the step it sleeps until to step `now` (in closed
 /// form), to be updated then.
 fn rewind(config: &SimulationConfig, s: &mut Swarm, i: usize, now: u64) {
-    let wake = u64::from(s.wake[i]);
-    if wake > now {
-        let back = -((wake - now) as f64 * config.dt);
-        let flight = Arc { x0: s.pos[i], v0: s.vel[i], g: config.motion.gravity, duration: 0.0 };
-        s.pos[i] = flight.at(back);
-        s.vel[i] = flight.velocity(back);
-        s.age[i] = (f64::from(s.age[i]) + back) as f32;
+    match rest_of_flight(config, s, i, now) {
+        Some(rest) => resume(s, i, &rest),
+        None => s.wake[i] = 0,
     }
+}
+
+/// Puts sleeping particle `i` at the start of `rest`, the rest of its flight, awake.
+fn resume(s: &mut Swarm, i: usize, rest: &Arc) {
+    s.pos[i] = rest.x0;
+    s.vel[i] = rest.v0;
+    s.age[i] = (f64::from(s.age[i]) - rest.duration) as f32;
     s.wake[i] = 0;
 }
 
