@@ -143,7 +143,7 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
         Some(contact)
     }
 
-    fn layer_clearance(&self, b: &Aabb) -> Clearance {
+    fn layer_clearance(&self, b: &Aabb, ceiling: f64) -> Clearance {
         // On a flat surface the height above it and the in-face coordinates are affine, so the
         // box's corners bound them over the box.
         if self.chart.uniform_normal().is_none() {
@@ -159,6 +159,9 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
         let (w, h) = self.chart.size();
         if hi.z < 0.0 || hi.x < -0.5 * w || lo.x > 0.5 * w || hi.y < -0.5 * h || lo.y > 0.5 * h {
             return Clearance::Free;
+        }
+        if lo.z > ceiling {
+            return Clearance::Above { height: lo.z, top: self.field.max_thickness() };
         }
         let (nodes, top) = self.field.nodes_under((lo.x, hi.x), (lo.y, hi.y));
         Clearance::Over { nodes, height: lo.z, top }
@@ -426,6 +429,28 @@ mod tests {
         assert!(w.receives(0, DVec3::ZERO, DVec3::NEG_X) && !w.receives(0, DVec3::ZERO, DVec3::X));
         assert_eq!(w.normal(3), DVec3::NEG_X);
         assert_eq!(w.uniform_normal(), Some(DVec3::NEG_X));
+    }
+
+    /// A box over the wall is answered with the nodes under it at or below the ceiling, and
+    /// without them above it, with the same least height and a bound of the whole layer.
+    #[test]
+    fn a_box_above_the_ceiling_needs_no_nodes() {
+        let mut w = wall();
+        w.field.deposit(5, 0.02 * w.field.cell_area());
+        // 0.1 m to 0.2 m in front of the wall (its receiving side faces −x), over cells 5 and 6.
+        let b = Aabb { min: DVec3::new(-0.2, -0.4, 1.1), max: DVec3::new(-0.1, 0.4, 1.3) };
+        let Clearance::Over { height, top, .. } = w.layer_clearance(&b, f64::INFINITY) else {
+            panic!("the box is over the wall")
+        };
+        assert!((height - 0.1).abs() < 1e-12 && (top - 0.02).abs() < 1e-12, "{height} {top}");
+        assert!(matches!(w.layer_clearance(&b, 0.1 + 1e-9), Clearance::Over { .. }));
+        match w.layer_clearance(&b, 0.05) {
+            Clearance::Above { height: h, top: t } => assert!(h == height && t >= top, "{h} {t}"),
+            other => panic!("{other:?}"),
+        }
+        // Behind the wall or beside it nothing can reach the box, whatever the ceiling.
+        let behind = Aabb { min: DVec3::new(0.1, -0.4, 1.1), max: DVec3::new(0.2, 0.4, 1.3) };
+        assert_eq!(w.layer_clearance(&behind, 0.05), Clearance::Free);
     }
 
     #[test]

@@ -320,12 +320,32 @@ impl HeightField {
         let (mut sum, mut n) = (0.0, 0.0);
         // At most one full turn of a periodic grid, each column once.
         let rx = rx.min((cols - 1) / 2);
+        let inside = |k: isize, y: f64| {
+            let x = k as f64 * dx;
+            x * x + y * y <= radius * radius
+        };
         for j in (row - ry).max(0)..=(row + ry).min(rows - 1) {
-            for i in col - rx..=col + rx {
+            let y = (j - row) as f64 * dy;
+            // The test is monotone in |i − col| (rounding is), so the row's cells in the disc
+            // are those within `half` columns of `col`: found once, not cell by cell.
+            let mut half = rx;
+            while half >= 0 && !inside(half, y) {
+                half -= 1;
+            }
+            let start = j as usize * self.cols;
+            if !self.wrap && self.hole.is_empty() {
+                // In the same order as below, so the sum is the same to the bit.
+                let (first, last) = ((col - half).max(0), (col + half).min(cols - 1));
+                for &t in self.thickness.get(start + first as usize..=start + last as usize).unwrap_or(&[]) {
+                    sum += t;
+                    n += 1.0;
+                }
+                continue;
+            }
+            for i in col - half..=col + half {
                 let Some(ci) = self.column(i) else { continue };
-                let (x, y) = ((i - col) as f64 * dx, (j - row) as f64 * dy);
-                let c = j as usize * self.cols + ci;
-                if x * x + y * y <= radius * radius && !self.is_hole(c as u32) {
+                let c = start + ci;
+                if !self.is_hole(c as u32) {
                     sum += self.thickness[c];
                     n += 1.0;
                 }
@@ -684,6 +704,62 @@ mod tests {
             }
         }
         sum / n
+    }
+
+    /// The disc mean over cells, cell by cell in row-major order (the order the engine sums
+    /// in), each tested against the disc: the reference the row-span sum must match to the bit.
+    fn ordered_mean(f: &HeightField, cell: u32, radius: f64) -> f64 {
+        let (dx, dy) = f.cell_size();
+        let (cols, rows) = (f.cols as isize, f.rows as isize);
+        let (row, col) = (cell as isize / cols, cell as isize % cols);
+        let (rx, ry) = ((radius / dx).floor() as isize, (radius / dy).floor() as isize);
+        let rx = rx.min((cols - 1) / 2);
+        let (mut sum, mut n) = (0.0, 0.0);
+        for j in (row - ry).max(0)..=(row + ry).min(rows - 1) {
+            for i in col - rx..=col + rx {
+                let Some(ci) = f.column(i) else { continue };
+                let (x, y) = ((i - col) as f64 * dx, (j - row) as f64 * dy);
+                let c = j as usize * f.cols + ci;
+                if x * x + y * y <= radius * radius && !f.is_hole(c as u32) {
+                    sum += f.thickness[c];
+                    n += 1.0;
+                }
+            }
+        }
+        if n > 0.0 { sum / n } else { 0.0 }
+    }
+
+    /// Regression for the row-span disc mean (the cushion under every impact): on a rough
+    /// layer, flat or periodic, with and without holes, at radii that put cells exactly on the
+    /// rim, it equals the cell-by-cell mean to the bit, at the edges and round the seam.
+    #[test]
+    fn the_disc_mean_by_rows_is_the_cell_by_cell_mean_to_the_bit() {
+        let (cols, rows) = (61, 37);
+        let mut noise = 0x9E37_79B9_7F4A_7C15_u64;
+        for (wrap, holes) in [(false, false), (false, true), (true, false), (true, true)] {
+            let mut f = HeightField::new(0.61, 0.37, cols, rows, 0.0); // 10 mm cells
+            f.set_wrap(wrap);
+            if holes {
+                f.set_holes((0..cols * rows).map(|c| c % 7 == 3).collect());
+            }
+            for c in 0..cols * rows {
+                noise ^= noise << 13;
+                noise ^= noise >> 7;
+                noise ^= noise << 17;
+                f.add(c as u32, (noise >> 11) as f64 / (1u64 << 53) as f64 * 1e-2);
+            }
+            // 0.05 and 0.1 put cells exactly on the rim (3-4-5 and 6-8-10 triangles).
+            for radius in [0.012, 0.03, 0.05, 0.0734, 0.1] {
+                for c in [0, 30, cols - 1, 18 * cols, 18 * cols + 30, cols * rows - 1, 36 * cols + 2] {
+                    let (m, want) = (f.mean_around(c as u32, radius), ordered_mean(&f, c as u32, radius));
+                    assert_eq!(
+                        m.to_bits(),
+                        want.to_bits(),
+                        "wrap {wrap}, holes {holes}, r {radius}, cell {c}"
+                    );
+                }
+            }
+        }
     }
 
     /// A disc 20 cells wide in radius is averaged over 2 × 2 blocks: on a uniform layer with

@@ -70,6 +70,15 @@ pub enum Clearance {
         /// Upper bound of the layer under the box now, m.
         top: f64,
     },
+    /// It lies over the surface, wholly higher than the `ceiling` asked about: `height` (m) is
+    /// its least height above the bare surface and `top` (m) bounds the whole layer now. No
+    /// node under it was looked up.
+    Above {
+        /// Least height of the box above the bare surface, m.
+        height: f64,
+        /// Upper bound of the whole layer now, m.
+        top: f64,
+    },
     /// The surface cannot tell.
     Unknown,
 }
@@ -152,10 +161,12 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     fn layer_contact(&self, p0: DVec3, p1: DVec3) -> Option<LayerContact>;
 
     /// How the box `b` stands to the deposited layer: what a flight inside `b` needs to know
-    /// to sleep over the layer (see [`Clearance`]). Surfaces that cannot bound their layer
-    /// under a box cheaply answer [`Clearance::Unknown`], and the particle is stepped.
-    fn layer_clearance(&self, b: &Aabb) -> Clearance {
-        let _ = b;
+    /// to sleep over the layer (see [`Clearance`]); a box wholly higher than `ceiling` (m) above
+    /// the bare surface may be answered [`Clearance::Above`], without the nodes under it.
+    /// Surfaces that cannot bound their layer under a box cheaply answer
+    /// [`Clearance::Unknown`], and the particle is stepped.
+    fn layer_clearance(&self, b: &Aabb, ceiling: f64) -> Clearance {
+        let _ = (b, ceiling);
         Clearance::Unknown
     }
 
@@ -288,8 +299,8 @@ macro_rules! surfaces {
                 each!(self, s => s.layer_contact(p0, p1))
             }
             #[inline]
-            fn layer_clearance(&self, b: &Aabb) -> Clearance {
-                each!(self, s => s.layer_clearance(b))
+            fn layer_clearance(&self, b: &Aabb, ceiling: f64) -> Clearance {
+                each!(self, s => s.layer_clearance(b, ceiling))
             }
             #[inline]
             fn node_bound(&self, level: u32, col: u32, row: u32) -> f64 {

@@ -331,8 +331,17 @@ impl UpdateContext<'_> {
     /// the nodes under it, with its least height, where the layer might grow into it.
     fn clears_layers(&self, b: &Aabb, id: u32, watch: &mut Vec<Watch>) -> bool {
         for (t, target) in self.targets.iter().enumerate() {
-            match target.surface.layer_clearance(b) {
+            let allowance = self.scene.surface(target.surface_id).layer;
+            match target.surface.layer_clearance(b, allowance) {
                 Clearance::Free => {}
+                // Above the layer's allowance in the broad phase, the box needs no watch: a
+                // layer that outgrows its allowance wakes every sleeper whose flight comes near
+                // the grown zone.
+                Clearance::Above { height, top } => {
+                    if height - top <= LAYER_MARGIN {
+                        return false;
+                    }
+                }
                 // A surface that cannot bound its layer is cleared only by its whole box, layer
                 // allowance included (a few pieces at most: a mesh's are too many to test).
                 Clearance::Unknown => {
@@ -347,10 +356,7 @@ impl UpdateContext<'_> {
                     if height - top <= LAYER_MARGIN {
                         return false;
                     }
-                    // Above the layer's allowance in the broad phase, the box needs no watch: a
-                    // layer that outgrows its allowance wakes every sleeper whose flight comes
-                    // near the grown zone.
-                    if height > self.scene.surface(target.surface_id).layer {
+                    if height > allowance {
                         continue;
                     }
                     // Rounded down, so that the watch wakes the flight no later than needed.
