@@ -356,6 +356,7 @@ impl UpdateContext<'_> {
                     if height - top <= LAYER_MARGIN {
                         return false;
                     }
+                    // As `Above` (a surface may not tell the two apart).
                     if height > allowance {
                         continue;
                     }
