@@ -548,7 +548,7 @@ impl HeightField {
             }
             let now = inside(s).is_some();
             if now && !was_inside {
-                let (a, b) = bisect(prev, s, |m| inside(m).is_some());
+                let (a, b) = self.entry(chart, (p0, p1), (prev, s), |m| inside(m).is_some());
                 // `b` stays inside throughout the bisection.
                 let entered = inside(b)?;
                 // Through the side of a taller column, the material settles in the column the
@@ -563,6 +563,36 @@ impl HeightField {
             k += 1;
         }
         None
+    }
+
+    /// Narrows `[a, b]` of the path `p0 → p1`, `a` outside the layer and `b` inside (as
+    /// `inside` says), to the entry (see [`bisect`]). On a flat surface the in-face coordinates
+    /// and the height are affine along the path, so the halvings interpolate them instead of
+    /// mapping each point; the ends found are checked with `inside` itself, and the path is
+    /// bisected by `inside` where rounding makes the two disagree.
+    fn entry(
+        &self,
+        chart: &impl Chart,
+        (p0, p1): (DVec3, DVec3),
+        (a, b): (f64, f64),
+        inside: impl Fn(f64) -> bool,
+    ) -> (f64, f64) {
+        if chart.uniform_normal().is_some() {
+            let (l0, l1) = (DVec3::from(chart.local(p0)), DVec3::from(chart.local(p1)));
+            let d = l1 - l0;
+            let (ea, eb) = bisect(a, b, |m| {
+                let l = l0 + d * m;
+                if !chart.covers(l.x, l.y) {
+                    return false;
+                }
+                let cell = self.cell_at(l.x, l.y);
+                l.z <= self.thickness[cell as usize] && !self.is_hole(cell)
+            });
+            if !inside(ea) && inside(eb) {
+                return (ea, eb);
+            }
+        }
+        bisect(a, b, inside)
     }
 
     /// The contact at `point` (fraction `s` of the path), entering cell `entered` and settling
@@ -686,6 +716,47 @@ mod tests {
             met += usize::from(fast.is_some());
         }
         assert!(met > 100, "only {met} contacts");
+    }
+
+    /// On a flat face the entry into the layer is narrowed over interpolated coordinates: it
+    /// must end with the path's own test outside before and inside after, and agree with the
+    /// plain bisection (rounding may move a rare one by the last halving), on a rough layer
+    /// with holes.
+    #[test]
+    fn the_entry_on_a_flat_face_is_the_bisection_of_the_path_itself() {
+        use crate::collision::Face;
+        let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
+        let mut f = HeightField::new(1.0, 1.0, 200, 100, 0.0);
+        f.set_holes((0..20_000).map(|c| c % 13 == 5).collect());
+        let mut x: u64 = 11;
+        let mut next = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for c in 0..20_000 {
+            f.add(c, 1e-3 * (0.2 + next()));
+        }
+        fn inside_of(f: &HeightField, face: Face, p0: DVec3, p1: DVec3) -> impl Fn(f64) -> bool + '_ {
+            move |s: f64| {
+                let (u, v, h) = Chart::local(&face, p0.lerp(p1, s));
+                let cell = f.cell_at(u, v);
+                Chart::covers(&face, u, v) && h <= f.thickness[cell as usize] && !f.is_hole(cell)
+            }
+        }
+        let (mut tried, mut same) = (0, 0);
+        while tried < 3000 {
+            let p0 = DVec3::new(next() - 0.5, next() - 0.5, 2e-3 + 1e-2 * next());
+            let p1 = DVec3::new(next() - 0.5, next() - 0.5, 1e-4);
+            let inside = inside_of(&f, face, p0, p1);
+            if inside(0.0) || !inside(1.0) {
+                continue;
+            }
+            tried += 1;
+            let (a, b) = f.entry(&face, (p0, p1), (0.0, 1.0), &inside);
+            assert!(!inside(a) && inside(b) && b - a < 1e-9, "{p0} → {p1}: {a} {b}");
+            same += usize::from((a, b) == bisect(0.0, 1.0, &inside));
+        }
+        assert!(same > 2900, "only {same} of {tried} entries as the plain bisection finds them");
     }
 
     /// The disc mean by brute force over cells, holes left out.
