@@ -85,14 +85,14 @@ impl Primitive for Cylinder {
     }
 
     fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
-        let axis = self.b - self.a;
-        let u = axis / axis.length();
+        let (len, u) = self.axis();
+        let perp = arc.perpendicular(self.a, u);
         // Every hit, and a start inside, needs the arc within the radius of the axis: most arcs
         // a broad phase hands over pass by, and a bound on their distance spares the quartic.
-        if axis_gap(&arc.perpendicular(self.a, u), arc.duration) > self.radius * (1.0 + 1e-9) + 1e-12 {
+        if self.passes_by(&perp, arc.duration) {
             return None;
         }
-        self.solve_arc(arc)
+        self.solve_arc(arc, (len, u), &perp)
     }
 
     fn aabb(&self) -> Option<Aabb> {
@@ -112,14 +112,28 @@ impl Primitive for Cylinder {
 }
 
 impl Cylinder {
-    /// The earliest hit of the arc with the mantle or either cap, solved in full (the quartic
-    /// of the mantle, the caps' quadratics), without the distance bound that
-    /// [`Primitive::intersect_arc`] rejects passing arcs by first.
-    fn solve_arc(&self, arc: &Arc) -> Option<Hit> {
+    /// Length of the axis (m) and its unit direction from `a` to `b`.
+    #[inline]
+    fn axis(&self) -> (f64, DVec3) {
         let axis = self.b - self.a;
         let len = axis.length();
-        let u = axis / len;
-        let perp = arc.perpendicular(self.a, u);
+        (len, axis / len)
+    }
+
+    /// True if an arc whose component perpendicular to the axis is `perp` (see
+    /// [`Arc::perpendicular`]) stays, over `duration` (s), certainly farther from the axis
+    /// than the radius: it can neither hit the bar nor start inside it.
+    #[inline]
+    fn passes_by(&self, perp: &[DVec3; 3], duration: f64) -> bool {
+        axis_gap(perp, duration) > self.radius * (1.0 + 1e-9) + 1e-12
+    }
+
+    /// The earliest hit of the arc with the mantle or either cap, solved in full (the quartic
+    /// of the mantle, the caps' quadratics), without the distance bound that
+    /// [`Primitive::intersect_arc`] rejects passing arcs by first; `(len, u)` is
+    /// [`Cylinder::axis`] and `perp` the arc's component perpendicular to it.
+    fn solve_arc(&self, arc: &Arc, (len, u): (f64, DVec3), perp: &[DVec3; 3]) -> Option<Hit> {
+        let perp = *perp;
         if let Some(h) = super::inside_start(self, arc) {
             return Some(h);
         }
@@ -154,17 +168,21 @@ impl Cylinder {
 mod tests {
     use super::*;
 
-    /// The rejection bound never exceeds the arc's true least distance from the axis, so a
-    /// rejected arc can hit nothing: checked on random quadratics against a fine sampling.
-    #[test]
-    fn the_axis_gap_is_a_lower_bound_of_the_distance_from_the_axis() {
-        let mut x = 0x2545_F491_4F6C_DD1D_u64;
-        let mut next = || {
+    /// Uniform numbers in [−1, 1) from a xorshift generator seeded with `seed`.
+    fn uniform(mut x: u64) -> impl FnMut() -> f64 {
+        move || {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
             (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        }
+    }
+
+    /// The rejection bound never exceeds the arc's true least distance from the axis, so a
+    /// rejected arc can hit nothing: checked on random quadratics against a fine sampling.
+    #[test]
+    fn the_axis_gap_is_a_lower_bound_of_the_distance_from_the_axis() {
+        let mut next = uniform(0x2545_F491_4F6C_DD1D);
         let mut tight = 0;
         for _ in 0..2000 {
             let c = [
@@ -190,13 +208,7 @@ mod tests {
     /// rejected without it.
     #[test]
     fn rejecting_passing_arcs_keeps_every_hit() {
-        let mut x = 0x9E37_79B9_7F4A_7C15_u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(0x9E37_79B9_7F4A_7C15);
         let g = DVec3::new(0.0, 0.0, -9.81);
         let (mut hits, mut rejected, mut misses) = (0, 0, 0);
         for k in 0..20_000 {
@@ -217,12 +229,13 @@ mod tests {
                 g,
                 duration: 1e-3 * f64::from(1 + k % 8),
             };
-            let full = bar.solve_arc(&arc);
+            let (len, u) = bar.axis();
+            let perp = arc.perpendicular(bar.a, u);
+            let full = bar.solve_arc(&arc, (len, u), &perp);
             assert_eq!(bar.intersect_arc(&arc), full, "arc {arc:?}");
-            let gap = axis_gap(&arc.perpendicular(bar.a, axis), arc.duration);
             match full {
                 Some(_) => hits += 1,
-                None if gap > bar.radius * (1.0 + 1e-9) + 1e-12 => rejected += 1,
+                None if bar.passes_by(&perp, arc.duration) => rejected += 1,
                 None => misses += 1,
             }
         }
