@@ -70,8 +70,11 @@ impl Arc {
         let end = self.at(self.duration);
         let mut b = super::Aabb::from_points(self.x0, end);
         for a in 0..3 {
-            if self.g[a] != 0.0 {
-                let apex = -self.v0[a] / self.g[a];
+            let (v, g) = (self.v0[a], self.g[a]);
+            // Most arcs turn on no axis within their duration: that is told without dividing
+            // (with room for the division's rounding), the turning time only where it may.
+            if g != 0.0 && v * g < 0.0 && v.abs() <= g.abs() * self.duration * (1.0 + 1e-9) {
+                let apex = -v / g;
                 if apex > 0.0 && apex < self.duration {
                     let p = self.at(apex)[a];
                     b.min[a] = b.min[a].min(p);
@@ -191,7 +194,8 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
     }
     let mut knots = Small::default();
     knots.push(lo);
-    roots(&derivative(c), lo, hi).iter().filter(|&&r| r > lo && r < hi).for_each(|&r| knots.push(r));
+    let dc = derivative(c);
+    roots(&dc, lo, hi).iter().filter(|&&r| r > lo && r < hi).for_each(|&r| knots.push(r));
     knots.push(hi);
     for w in knots.windows(2) {
         let (a, b) = (w[0], w[1]);
@@ -206,7 +210,7 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
         if fb == 0.0 {
             continue; // the next piece starts at b and records it
         }
-        out.push(narrow(c, (a, fa), (b, fb)));
+        out.push(narrow(c, &dc, (a, fa), (b, fb)));
     }
     if eval(c, hi) == 0.0 && out.last() != Some(&hi) {
         out.push(hi);
@@ -234,11 +238,73 @@ fn quadratic_roots(c: &[f64], lo: f64, hi: f64) -> Small {
     out
 }
 
-/// The root of `c` in `(a, b)`, where it changes sign once (`fa`, `fb`: its values at the
-/// ends, neither 0): the first float at which it has `fb`'s sign, the bracket narrowed by
-/// false position with the Illinois rule, and every third step by bisection, down to
-/// adjacent floats.
-fn narrow(c: &[f64], (mut a, mut fa): (f64, f64), (mut b, mut fb): (f64, f64)) -> f64 {
+/// Newton steps [`narrow`] takes before it leaves the root to the bracketing method.
+const NEWTON_STEPS: usize = 12;
+
+/// Floats [`narrow`] steps over, one by one, from where Newton's method settled.
+const FLOAT_STEPS: usize = 8;
+
+/// The root of `c` (derivative `dc`) in `(a, b)`, where it changes sign once (`fa`, `fb`:
+/// its values at the ends, neither 0): the first float at which it has `fb`'s sign, with the
+/// bracket narrowed down to adjacent floats. Newton's method, started at the secant point
+/// and kept inside the bracket (which every value it computes narrows), settles on the root
+/// in a few evaluations; the float where the sign turns is then found by stepping over the
+/// floats next to it. Where either stalls, [`narrow_bracket`] finishes. As long as the
+/// computed sign turns once in the bracket (the values rounding makes of the polynomial do
+/// not flicker about its root), that float is the same whichever way it is found.
+fn narrow(c: &[f64], dc: &[f64], (mut a, mut fa): (f64, f64), (mut b, mut fb): (f64, f64)) -> f64 {
+    let up = fb > 0.0;
+    // Whether `f` has `fb`'s sign (0 counts with `fa`'s when rising, with `fb`'s when falling).
+    let b_side = |f: f64| (f > 0.0) == up;
+    let secant = (a * fb - b * fa) / (fb - fa);
+    let mut x = if secant > a && secant < b { secant } else { 0.5 * (a + b) };
+    let mut settled = false;
+    for _ in 0..NEWTON_STEPS {
+        let fx = eval(c, x);
+        if b_side(fx) {
+            (b, fb) = (x, fx);
+        } else {
+            (a, fa) = (x, fx);
+        }
+        let mut next = x - fx / eval(dc, x);
+        if !(next > a && next < b) {
+            next = 0.5 * (a + b);
+            if next <= a || next >= b {
+                return b;
+            }
+        }
+        if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs() {
+            settled = true;
+            break;
+        }
+        x = next;
+    }
+    if settled {
+        // `x` is an end of the bracket: step from it towards the other end until the sign
+        // turns.
+        for _ in 0..FLOAT_STEPS {
+            let p = if x == b { b.next_down() } else { a.next_up() };
+            if p <= a || p >= b {
+                return b;
+            }
+            let fp = eval(c, p);
+            if b_side(fp) {
+                (b, fb) = (p, fp);
+            } else {
+                (a, fa) = (p, fp);
+            }
+            if x == b && p == a || x == a && p == b {
+                return b;
+            }
+            x = p;
+        }
+    }
+    narrow_bracket(c, (a, fa), (b, fb))
+}
+
+/// [`narrow`] by false position with the Illinois rule, and every third step by bisection,
+/// down to adjacent floats.
+fn narrow_bracket(c: &[f64], (mut a, mut fa): (f64, f64), (mut b, mut fb): (f64, f64)) -> f64 {
     let up = fb > 0.0;
     // Which end the last step moved (-1: a, 1: b), to halve the other's value when one end
     // moves twice in a row.
@@ -307,6 +373,72 @@ mod tests {
         let touch = roots(&[0.25, -1.0, 1.0], 0.0, 1.0);
         assert_eq!(touch.len(), 1);
         assert!((touch[0] - 0.5).abs() < 1e-7);
+    }
+
+    /// The coefficients (low to high) of the monic polynomial with roots `r`.
+    fn from_roots(r: &[f64]) -> Vec<f64> {
+        let mut c = vec![1.0];
+        for &root in r {
+            let mut next = vec![0.0; c.len() + 1];
+            for (k, &ck) in c.iter().enumerate() {
+                next[k + 1] += ck;
+                next[k] -= root * ck;
+            }
+            c = next;
+        }
+        c
+    }
+
+    /// Newton's method with the float-by-float finish settles on a float where the computed
+    /// sign turns, as the bracketing method does, and where the polynomial is zero as far as
+    /// it can be evaluated (within the rounding of Horner's scheme). Where the sign turns once
+    /// the two find the same float; where rounding makes it flicker about the root they may
+    /// settle on different floats of that zone, equally good. Checked on the monotone pieces
+    /// of 20 000 random cubics and quartics with roots within a flight's duration, every fifth
+    /// with two roots a nanosecond apart.
+    #[test]
+    fn newton_settles_on_a_float_where_the_sign_turns() {
+        let mut x = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut pieces, mut same) = (0, 0);
+        for k in 0..20_000 {
+            let degree = 3 + k % 2;
+            let mut r: Vec<f64> = (0..degree).map(|_| 0.1 * next() - 0.02).collect();
+            if k % 5 == 0 {
+                r[1] = r[0] + 1e-9 * next();
+            }
+            let scale = 10f64.powf(6.0 * next() - 3.0);
+            let c: Vec<f64> = from_roots(&r).iter().map(|ci| ci * scale).collect();
+            let dc = derivative(&c);
+            let mut knots = vec![0.0];
+            knots.extend(roots(&dc, 0.0, 0.1).iter().filter(|&&t| t > 0.0 && t < 0.1));
+            knots.push(0.1);
+            for w in knots.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let (fa, fb) = (eval(&c, a), eval(&c, b));
+                if fa == 0.0 || fb == 0.0 || fa.signum() == fb.signum() {
+                    continue;
+                }
+                pieces += 1;
+                let fast = narrow(&c, &dc, (a, fa), (b, fb));
+                let plain = narrow_bracket(&c, (a, fa), (b, fb));
+                let b_side = |t: f64| (eval(&c, t) > 0.0) == (fb > 0.0);
+                for t in [fast, plain] {
+                    assert!(t > a && t <= b, "{t} outside ({a}, {b}]");
+                    assert!(b_side(t) && !b_side(t.next_down()), "the sign does not turn at {t}");
+                    let size: f64 = c.iter().rev().fold(0.0, |acc, ci| acc * t + ci.abs());
+                    let rounding = 4.0 * c.len() as f64 * f64::EPSILON * size;
+                    assert!(eval(&c, t).abs() <= rounding, "{t} is no root in ({a}, {b})");
+                }
+                same += usize::from(fast == plain);
+            }
+        }
+        assert!(pieces > 20_000 && same > 0, "{same} of {pieces} the same");
     }
 
     use crate::collision::{Plane, Primitive, Shape};

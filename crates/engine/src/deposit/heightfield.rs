@@ -342,8 +342,9 @@ impl HeightField {
                 let (first, last) = ((col - half).max(0) as usize, (col + half).min(cols - 1) as usize);
                 for &t in &self.thickness[start + first..=start + last] {
                     sum += t;
-                    n += 1.0;
                 }
+                // Exact: a whole count far below 2⁵³.
+                n += (last - first + 1) as f64;
                 continue;
             }
             for i in col - half..=col + half {
