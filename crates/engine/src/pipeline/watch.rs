@@ -153,16 +153,17 @@ impl Watches {
         self.prune_at = PRUNE_FLOOR;
     }
 
-    /// Drops the entries whose particle no longer sleeps until the entry's step, after step
-    /// `now` (which could wake nothing), once they are half as many again as after the last
-    /// pruning.
-    fn prune(&mut self, swarm: &Swarm, now: u64) {
+    /// Drops the entries whose step has passed by step `now` (which could wake nothing), once
+    /// they are half as many again as after the last pruning. An entry whose particle was
+    /// woken early and sleeps until another step stays until its own step has passed: told by
+    /// the entry alone, without looking the particle up in the swarm (a search per entry,
+    /// in the serial part of a step). Until then it wakes nothing, unless the particle
+    /// happens to sleep until that step again, which wakes it early, never late.
+    fn prune(&mut self, now: u64) {
         if self.entries <= self.prune_at {
             return;
         }
-        let sleeping = |e: &Entry| {
-            u64::from(e.wake) > now && swarm.id.binary_search(&e.id).is_ok_and(|i| swarm.wake[i] == e.wake)
-        };
+        let sleeping = |e: &Entry| u64::from(e.wake) > now;
         self.entries = 0;
         for level in self.targets.iter_mut().flatten() {
             let (low, entries) = (&mut level.low, &mut level.entries);
@@ -246,7 +247,7 @@ pub(super) fn run(config: &SimulationConfig, state: &mut State) {
         }
     }
     // Stale entries pile up where layers do not grow.
-    state.watches.prune(&state.swarm, now);
+    state.watches.prune(now);
 }
 
 /// Brings back to the present the sleeping particles whose flight, from the next step to the
@@ -417,6 +418,35 @@ mod tests {
         meets_the_grown_layer(false, (0.1, 0.2), |sim| {
             super::super::layers::grow_allowances(&sim.config.clone(), &mut sim.state, true)
         });
+    }
+
+    /// Pruning, told by the entries alone, drops exactly those whose step has passed: every
+    /// particle still asleep keeps each of its watches, and the lowest height of a node is
+    /// that of what it keeps.
+    #[test]
+    fn pruning_keeps_every_watch_whose_step_is_to_come() {
+        use super::{PRUNE_FLOOR, Watch, Watches};
+        use crate::deposit::Nodes;
+        let mut w = Watches::new(1);
+        let nodes = |c: u32| Nodes { level: 2, cols: (c, c + 1), rows: (3, 3), stride: 64 };
+        let count = PRUNE_FLOOR as u32 * 3;
+        for id in 0..count {
+            // Half the entries are due before step 100, half after.
+            let wake = if id % 2 == 0 { 50 + id % 50 } else { 101 + id % 50 };
+            let height = 0.001 * (1 + id % 7) as f32;
+            w.add(&Watch { id, wake, target: 0, nodes: nodes(id % 10), height });
+        }
+        assert_eq!(w.entries, 2 * count as usize);
+        w.prune(100);
+        let level = &w.targets[0][2];
+        let kept: Vec<(u32, u32)> = level.entries.iter().flatten().map(|e| (e.id, e.wake)).collect();
+        assert_eq!(w.entries, kept.len());
+        assert_eq!(kept.len(), count as usize, "each odd particle's two entries");
+        assert!(kept.iter().all(|&(id, wake)| id % 2 == 1 && wake > 100));
+        for &n in &level.active {
+            let lowest = level.entries[n as usize].iter().map(|e| e.height).fold(f32::INFINITY, f32::min);
+            assert_eq!(level.low[n as usize], lowest);
+        }
     }
 
     /// A grown zone wakes the sleepers whose flight comes near it, and no others.
