@@ -456,11 +456,14 @@ fn handle_interrupts() -> Result<()> {
     let mut result = Ok(());
     SET.call_once(|| {
         result = ctrlc::set_handler(|| {
-            if control::interrupt() == 1 {
-                eprintln!("\ninterrupted: stopping at the end of this step to write the outputs so far (Ctrl-C again to abort)");
-            } else if control::try_abort() {
+            // A later press claims the abort before it is counted: a run waiting for the count
+            // to move (at a pause point) must not start moving files in between.
+            if control::interrupts() >= 1 && control::try_abort() {
                 eprintln!("\naborted: the output directory holds what it held before");
                 std::process::exit(INTERRUPTED);
+            }
+            if control::interrupt() == 1 {
+                eprintln!("\ninterrupted: stopping at the end of this step to write the outputs so far (Ctrl-C again to abort)");
             }
         });
     });
