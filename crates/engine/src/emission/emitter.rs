@@ -88,13 +88,41 @@ impl Emitter {
 
     /// Samples a start position (m) and velocity (m/s) in the nozzle's frame.
     pub fn sample<R: Rng>(&self, frame: &NozzleFrame, rng: &mut R) -> (DVec3, DVec3) {
-        let (du, dw) = self.sample_aperture(rng);
-        let pos = frame.position + frame.width_axis * du + frame.height_axis * dw;
-        let dir = self.sample_direction(frame, rng);
-        let speed = self.speed[0] + (self.speed[1] - self.speed[0]) * rng.random::<f64>();
-        (pos, dir * speed)
+        self.sampler().sample(frame, rng)
     }
 
+    /// The emitter's draws with what they share worked out once, for drawing many particles:
+    /// each is the same as [`Emitter::sample`]'s.
+    pub fn sampler(&self) -> Sampler<'_> {
+        let normal = match self.direction {
+            Direction::TruncatedNormal { mu, sigma } => Some(TruncatedNormal::new(mu, sigma)),
+            _ => None,
+        };
+        Sampler { emitter: self, normal }
+    }
+}
+
+/// Draws of an [`Emitter`] (see [`Emitter::sampler`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Sampler<'a> {
+    emitter: &'a Emitter,
+    /// The truncated normal of the direction distribution, if it is one.
+    normal: Option<TruncatedNormal>,
+}
+
+impl Sampler<'_> {
+    /// Samples a start position (m) and velocity (m/s) in the nozzle's frame.
+    pub fn sample<R: Rng>(&self, frame: &NozzleFrame, rng: &mut R) -> (DVec3, DVec3) {
+        let e = self.emitter;
+        let (du, dw) = e.sample_aperture(rng);
+        let pos = frame.position + frame.width_axis * du + frame.height_axis * dw;
+        let dir = e.sample_direction(frame, self.normal.as_ref(), rng);
+        let speed = e.speed[0] + (e.speed[1] - e.speed[0]) * rng.random::<f64>();
+        (pos, dir * speed)
+    }
+}
+
+impl Emitter {
     fn sample_aperture<R: Rng>(&self, rng: &mut R) -> (f64, f64) {
         match self.aperture {
             Aperture::Point => (0.0, 0.0),
@@ -106,7 +134,13 @@ impl Emitter {
         }
     }
 
-    fn sample_direction<R: Rng>(&self, frame: &NozzleFrame, rng: &mut R) -> DVec3 {
+    /// A direction; `normal` is the truncated normal of [`Direction::TruncatedNormal`].
+    fn sample_direction<R: Rng>(
+        &self,
+        frame: &NozzleFrame,
+        normal: Option<&TruncatedNormal>,
+        rng: &mut R,
+    ) -> DVec3 {
         let half = self.cone_half_angle;
         let theta = match self.direction {
             Direction::Fan { wide, narrow } => {
@@ -119,7 +153,10 @@ impl Emitter {
             Direction::UniformSolidAngle => {
                 (1.0 - rng.random::<f64>() * (1.0 - half.cos())).clamp(-1.0, 1.0).acos()
             }
-            Direction::TruncatedNormal { mu, sigma } => half * truncated_normal_unit(mu, sigma, rng),
+            Direction::TruncatedNormal { mu, sigma } => {
+                let u = rng.random::<f64>();
+                half * normal.map_or_else(|| TruncatedNormal::new(mu, sigma).at(u), |n| n.at(u))
+            }
         };
         let phi = TAU * rng.random::<f64>();
         let (s, c) = theta.sin_cos();
@@ -141,19 +178,45 @@ fn polar_point<R: Rng>(r0: f64, r1: f64, rng: &mut R) -> (f64, f64) {
 /// random numbers, as in calibration) is continuous in μ and σ. Rejection sampling would not be.
 pub fn truncated_normal_unit<R: Rng>(mu: f64, sigma: f64, rng: &mut R) -> f64 {
     let u = rng.random::<f64>();
-    if sigma.is_nan() || sigma <= 0.0 {
-        return mu.clamp(0.0, 1.0);
+    TruncatedNormal::new(mu, sigma).at(u)
+}
+
+/// N(μ, σ) truncated to `[0, 1]`, with the probabilities at its bounds worked out once (see
+/// [`truncated_normal_unit`]).
+#[derive(Clone, Copy, Debug)]
+struct TruncatedNormal {
+    mu: f64,
+    sigma: f64,
+    /// The distribution function (or, in the upper tail, the survival function) at 0 and 1.
+    ends: (f64, f64),
+    /// Whether `ends` are survival probabilities.
+    upper: bool,
+}
+
+impl TruncatedNormal {
+    fn new(mu: f64, sigma: f64) -> TruncatedNormal {
+        let (a, b) = (-mu / sigma, (1.0 - mu) / sigma);
+        // Work in whichever tail keeps the probabilities away from 1, where they lose digits.
+        let upper = a > 0.0;
+        let ends = if upper { (normal_sf(a), normal_sf(b)) } else { (normal_cdf(a), normal_cdf(b)) };
+        TruncatedNormal { mu, sigma, ends, upper }
     }
-    let (a, b) = (-mu / sigma, (1.0 - mu) / sigma);
-    // Work in whichever tail keeps the probabilities away from 1, where they lose digits.
-    let x = if a > 0.0 {
-        let (qa, qb) = (normal_sf(a), normal_sf(b));
-        -inverse_normal_cdf(qa - u * (qa - qb))
-    } else {
-        let (pa, pb) = (normal_cdf(a), normal_cdf(b));
-        inverse_normal_cdf(pa + u * (pb - pa))
-    };
-    (mu + sigma * x).clamp(0.0, 1.0)
+
+    /// The draw for the uniform number `u` in `[0, 1)`.
+    fn at(&self, u: f64) -> f64 {
+        let (mu, sigma) = (self.mu, self.sigma);
+        if sigma.is_nan() || sigma <= 0.0 {
+            return mu.clamp(0.0, 1.0);
+        }
+        let x = if self.upper {
+            let (qa, qb) = self.ends;
+            -inverse_normal_cdf(qa - u * (qa - qb))
+        } else {
+            let (pa, pb) = self.ends;
+            inverse_normal_cdf(pa + u * (pb - pa))
+        };
+        (mu + sigma * x).clamp(0.0, 1.0)
+    }
 }
 
 /// Probability that N(μ, σ) falls in `[0, 1]`, the truncated normal's acceptance rate.

@@ -6,7 +6,7 @@ mod nozzle;
 mod paths;
 
 pub use emitter::{
-    Aperture, Direction, Emitter, inverse_normal_cdf, normal_cdf, normal_sf, truncated_normal_mass,
+    Aperture, Direction, Emitter, Sampler, inverse_normal_cdf, normal_cdf, normal_sf, truncated_normal_mass,
     truncated_normal_unit,
 };
 pub use nozzle::{Circle, NozzleFrame, NozzlePath, Waypoint, slerp};

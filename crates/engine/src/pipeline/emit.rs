@@ -35,8 +35,9 @@ pub(super) fn run(
     let (key, first) = (plan.key, state.next_id);
     // Each particle samples from its own stream, so the split over threads cannot change the
     // result; small batches are not worth the dispatch.
+    let sampler = emitter.sampler();
     let sample = |id: u64| {
-        let (pos, vel) = emitter.sample(&frame, &mut key.stream(id, 0));
+        let (pos, vel) = sampler.sample(&frame, &mut key.stream(id, 0));
         (pos, vel + carried)
     };
     let born: Vec<_> = if n >= EMIT_PARALLEL && workers.parallel() {
