@@ -70,11 +70,8 @@ impl Arc {
         let end = self.at(self.duration);
         let mut b = super::Aabb::from_points(self.x0, end);
         for a in 0..3 {
-            let (v, g) = (self.v0[a], self.g[a]);
-            // Most arcs turn on no axis within their duration: that is told without dividing
-            // (with room for the division's rounding), the turning time only where it may.
-            if g != 0.0 && v * g < 0.0 && v.abs() <= g.abs() * self.duration * (1.0 + 1e-9) {
-                let apex = -v / g;
+            if self.g[a] != 0.0 {
+                let apex = -self.v0[a] / self.g[a];
                 if apex > 0.0 && apex < self.duration {
                     let p = self.at(apex)[a];
                     b.min[a] = b.min[a].min(p);
