@@ -264,15 +264,17 @@ fn narrow(c: &[f64], dc: &[f64], (mut a, mut fa): (f64, f64), (mut b, mut fb): (
             (a, fa) = (x, fx);
         }
         let mut next = x - fx / eval(dc, x);
+        // Settled when the step is within rounding (it then often lands on `x` itself, an end
+        // of the bracket).
+        if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs() {
+            settled = true;
+            break;
+        }
         if !(next > a && next < b) {
             next = 0.5 * (a + b);
             if next <= a || next >= b {
                 return b;
             }
-        }
-        if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs() {
-            settled = true;
-            break;
         }
         x = next;
     }
@@ -390,9 +392,10 @@ mod tests {
     /// sign turns, as the bracketing method does, and where the polynomial is zero as far as
     /// it can be evaluated (within the rounding of Horner's scheme). Where the sign turns once
     /// the two find the same float; where rounding makes it flicker about the root they may
-    /// settle on different floats of that zone, equally good. Checked on the monotone pieces
-    /// of 20 000 random cubics and quartics with roots within a flight's duration, every fifth
-    /// with two roots a nanosecond apart.
+    /// settle on different floats of that zone (the rounding over the slope either side of
+    /// the root), equally good: on these polynomials more than half the roots are the same to
+    /// the bit. Checked on the monotone pieces of 20 000 random cubics and quartics with roots
+    /// within a flight's duration, every fifth with two roots a nanosecond apart.
     #[test]
     fn newton_settles_on_a_float_where_the_sign_turns() {
         let mut x = 0x9E37_79B9_7F4A_7C15_u64;
@@ -432,10 +435,19 @@ mod tests {
                     let rounding = 4.0 * c.len() as f64 * f64::EPSILON * size;
                     assert!(eval(&c, t).abs() <= rounding, "{t} is no root in ({a}, {b})");
                 }
+                // Both lie within the zone where rounding hides the sign: about the rounding
+                // over the slope either side of the root.
+                let size = c.iter().rev().fold(0.0, |acc: f64, ci| acc * plain + ci.abs());
+                let zone = 4.0 * c.len() as f64 * f64::EPSILON * size / eval(&dc, plain).abs();
+                let ulp = plain.next_up() - plain;
+                assert!(
+                    (fast - plain).abs() <= 2.0 * zone + 4.0 * ulp,
+                    "{fast} against {plain} in ({a}, {b})"
+                );
                 same += usize::from(fast == plain);
             }
         }
-        assert!(pieces > 20_000 && same > 0, "{same} of {pieces} the same");
+        assert!(pieces > 20_000 && same > pieces / 4, "{same} of {pieces} the same");
     }
 
     use crate::collision::{Plane, Primitive, Shape};
