@@ -398,13 +398,9 @@ mod tests {
     /// within a flight's duration, every fifth with two roots a nanosecond apart.
     #[test]
     fn newton_settles_on_a_float_where_the_sign_turns() {
-        let mut x = 0x9E37_79B9_7F4A_7C15_u64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        // In [0, 1): exactly the generator's numbers mapped back from [−1, 1).
+        let mut uniform = crate::collision::testing::uniform(0x9E37_79B9_7F4A_7C15);
+        let mut next = move || 0.5 + 0.5 * uniform();
         let (mut pieces, mut same) = (0, 0);
         for k in 0..20_000 {
             let degree = 3 + k % 2;

@@ -35,3 +35,17 @@ pub struct Hit {
 /// segment starts strictly on the outer side. Far below any cell or particle scale, far above
 /// double-precision rounding at scene scale.
 pub const SURFACE_OFFSET: f64 = 1e-9;
+
+/// What the collision tests share.
+#[cfg(test)]
+pub(crate) mod testing {
+    /// Uniform numbers in [−1, 1) from a xorshift generator seeded with `seed`.
+    pub(crate) fn uniform(mut x: u64) -> impl FnMut() -> f64 {
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+}

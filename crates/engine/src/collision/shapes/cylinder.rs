@@ -167,16 +167,7 @@ impl Cylinder {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Uniform numbers in [−1, 1) from a xorshift generator seeded with `seed`.
-    fn uniform(mut x: u64) -> impl FnMut() -> f64 {
-        move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        }
-    }
+    use crate::collision::testing::uniform;
 
     /// The rejection bound never exceeds the arc's true least distance from the axis, so a
     /// rejected arc can hit nothing: checked on random quadratics against a fine sampling.
