@@ -153,6 +153,13 @@ impl HeightField {
         self.hole.get(cell as usize).copied().unwrap_or(false)
     }
 
+    /// True if a point `h` (m) above the bare surface over `cell` lies in the layer: the cell
+    /// is solid and its thickness reaches `h`.
+    #[inline]
+    fn holds(&self, cell: u32, h: f64) -> bool {
+        h <= self.thickness[cell as usize] && !self.is_hole(cell)
+    }
+
     /// Number of columns.
     pub fn cols(&self) -> usize {
         self.cols
@@ -521,7 +528,7 @@ impl HeightField {
         let inside = |s: f64| -> Option<u32> {
             let (cell, h) = column(s)?;
             let behind = sag > 0.0 && h < 0.0;
-            (h <= self.thickness[cell as usize] && !behind && !self.is_hole(cell)).then_some(cell)
+            (!behind && self.holds(cell, h)).then_some(cell)
         };
         // March at half a cell along the surface.
         let (dx, dy) = self.cell_size();
@@ -605,7 +612,7 @@ impl HeightField {
                 return false;
             }
             let cell = self.cell_at(l.x, l.y);
-            l.z <= self.thickness[cell as usize] && !self.is_hole(cell)
+            self.holds(cell, l.z)
         });
         (!inside(ea) && inside(eb)).then_some((ea, eb))
     }
@@ -755,7 +762,7 @@ mod tests {
             move |s: f64| {
                 let (u, v, h) = Chart::local(&face, p0.lerp(p1, s));
                 let cell = f.cell_at(u, v);
-                Chart::covers(&face, u, v) && h <= f.thickness[cell as usize] && !f.is_hole(cell)
+                Chart::covers(&face, u, v) && f.holds(cell, h)
             }
         }
         let (mut tried, mut accepted, mut same) = (0, 0, 0);
