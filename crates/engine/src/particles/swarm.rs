@@ -165,18 +165,28 @@ impl Swarm {
     /// Drops retired particles, keeping the others in order (so processing order, and with it
     /// every result, is independent of when compaction runs).
     pub fn compact(&mut self) {
-        let keep: Vec<bool> = self.flags.iter().map(|f| f & flags::ALIVE != 0).collect();
-        fn retain<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
-            let mut k = keep.iter();
-            v.retain(|_| *k.next().unwrap_or(&false));
+        // One pass over every array, moving each kept slot down to the next free one.
+        let mut kept = 0;
+        for i in 0..self.len() {
+            if self.flags[i] & flags::ALIVE == 0 {
+                continue;
+            }
+            self.pos[kept] = self.pos[i];
+            self.vel[kept] = self.vel[i];
+            self.age[kept] = self.age[i];
+            self.id[kept] = self.id[i];
+            self.impacts[kept] = self.impacts[i];
+            self.flags[kept] = self.flags[i];
+            self.wake[kept] = self.wake[i];
+            kept += 1;
         }
-        retain(&mut self.pos, &keep);
-        retain(&mut self.vel, &keep);
-        retain(&mut self.age, &keep);
-        retain(&mut self.id, &keep);
-        retain(&mut self.impacts, &keep);
-        retain(&mut self.flags, &keep);
-        retain(&mut self.wake, &keep);
+        self.pos.truncate(kept);
+        self.vel.truncate(kept);
+        self.age.truncate(kept);
+        self.id.truncate(kept);
+        self.impacts.truncate(kept);
+        self.flags.truncate(kept);
+        self.wake.truncate(kept);
         // The released particles still in flight, in slot (so id) order.
         let v = &self.volumes;
         let kept = self.id.iter().zip(&self.flags).filter(|&(_, f)| f & flags::RELEASED != 0);

@@ -37,7 +37,13 @@ use std::sync::Arc;
 
 /// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
 /// the order in which records are applied, never depends on the thread count.
-const CHUNK: usize = 1024;
+/// Small enough that a step with few particles awake still splits into enough tasks to keep
+/// every thread busy: a raster at 10⁵ particles/s has about 11 000 in flight, of which about 800
+/// are awake in a step, most of them in the youngest chunks.
+const CHUNK: usize = 256;
+
+/// Retired slots below which the swarm is not compacted.
+const COMPACT_MIN: usize = 1024;
 
 /// Why a simulation could not be set up.
 #[derive(Debug, thiserror::Error)]
@@ -356,7 +362,7 @@ impl Simulation {
             layers::run(&self.config, &self.plan, &mut self.state, &mut both);
             watch::run(&self.config, &mut self.state);
             layers::grow_allowances(&self.config, &mut self.state, lazy);
-            if self.state.retired > CHUNK && self.state.retired * 4 > self.state.swarm.len() {
+            if self.state.retired > COMPACT_MIN && self.state.retired * 4 > self.state.swarm.len() {
                 self.state.swarm.compact();
                 self.state.retired = 0;
             }
