@@ -220,8 +220,10 @@ impl UpdateContext<'_> {
         for start in (0..chunk.pos.len()).step_by(BLOCK) {
             let end = (start + BLOCK).min(chunk.pos.len());
             let mut flying = [false; BLOCK];
-            for (f, i) in flying.iter_mut().zip(start..end) {
-                *f = chunk.flags[i] & flags::ALIVE != 0 && u64::from(chunk.wake[i]) <= self.step;
+            // Without a branch, so that the test runs over the block in lanes.
+            let (alive, wake) = (&chunk.flags[start..end], &chunk.wake[start..end]);
+            for ((f, &a), &w) in flying.iter_mut().zip(alive).zip(wake) {
+                *f = (a & flags::ALIVE != 0) & (u64::from(w) <= self.step);
             }
             // Event-driven flight leaves most slots asleep: a sparse block is stepped slot by
             // slot (with identical results), a dense one in lanes.
