@@ -163,3 +163,22 @@ fn a_restarted_simulation_reproduces_a_new_one() {
         }
     }
 }
+
+/// A checkpoint written before the particles' random streams became xoshiro256++ ones (state
+/// version 3, the same bytes) is refused: restored, it would continue with other random numbers
+/// than the run that saved it, and no longer match that run.
+#[test]
+fn a_checkpoint_of_the_earlier_random_streams_is_refused() {
+    let sc = busy_scene(3);
+    let mut sim = sc.build().expect("valid");
+    for _ in 0..20 {
+        sim.step();
+    }
+    let mut saved = sim.save_state();
+    saved[..4].copy_from_slice(&3u32.to_le_bytes());
+    let mut fresh = sc.build().expect("valid");
+    let before = fresh.state_debug();
+    let refused = fresh.restore_state(&saved).expect_err("a version-3 state is refused");
+    assert_eq!(refused.to_string(), "the saved state has version 3, this program reads version 4");
+    assert_eq!(fresh.state_debug(), before);
+}

@@ -37,8 +37,9 @@ pub(super) fn run(
     // Each particle samples from its own stream, so the split over threads cannot change the
     // result; small batches are not worth the dispatch.
     let sampler = emitter.sampler();
+    // The configuration bounds the run's particle count by 2³², so every id fits in 32 bits.
     let sample = |id: u64| {
-        let (pos, vel) = sampler.sample(&frame, &mut key.stream(id, 0));
+        let (pos, vel) = sampler.sample(&frame, &mut key.stream(id as u32, 0));
         (pos, vel + carried)
     };
     let born: Vec<_> = if n >= EMIT_PARALLEL && workers.parallel() {
@@ -47,7 +48,6 @@ pub(super) fn run(
         (first..first + n).map(sample).collect()
     };
     for (k, (pos, vel)) in born.into_iter().enumerate() {
-        // The configuration bounds the run's particle count by 2³², so the id fits.
         state.swarm.push(pos, vel, (first + k as u64) as u32);
         state.tally.emitted.add(f64::from(volume));
     }

@@ -42,7 +42,8 @@ use std::sync::Arc;
 /// are awake in a step, most of them in the youngest chunks.
 const CHUNK: usize = 256;
 
-/// Retired slots below which the swarm is not compacted.
+/// The swarm is compacted once more slots than this have retired (and a quarter of them): the
+/// former chunk size, so that compaction runs at the steps it always has.
 const COMPACT_MIN: usize = 1024;
 
 /// Why a simulation could not be set up.

@@ -543,7 +543,7 @@ impl UpdateContext<'_> {
         v_in: DVec3,
     ) -> ImpactSite {
         let layer = front.map(|(target, _, cell)| target.surface.mean_thickness(cell, model.cushion_radius));
-        let material = self.key.stream(u64::from(p.id), MATERIAL_EVENT).random::<f64>();
+        let material = self.key.stream(p.id, MATERIAL_EVENT).random::<f64>();
         let site = ImpactModel::site(v_in, hit.normal, layer, material, p.flags & flags::BOUNCED != 0);
         match front {
             Some((target, _, cell)) => site.incidence_on(target.surface.normal(cell)),
@@ -565,7 +565,7 @@ impl UpdateContext<'_> {
                 return false;
             };
             p.impacts = p.impacts.saturating_add(1);
-            let mut rng = self.key.stream(u64::from(p.id), u32::from(p.impacts));
+            let mut rng = self.key.stream(p.id, u32::from(p.impacts));
             let surface = self.scene.surface(s);
             // An impact on the front of a target: the target, its index and the cell struck. A
             // contact with the layer is on the front by construction, whatever its normal (a
