@@ -4,17 +4,19 @@
 //!
 //! ```sh
 //! cargo build --release -p spraysim-bench --example profile
-//! target/release/examples/profile [--euler] [--raster] [--rate R] [--duration T] [-j THREADS] [--set KEY=VALUE]…
+//! target/release/examples/profile [--euler] [--raster] [--rate R] [--duration T] [--resolution N] [-j THREADS] [--set KEY=VALUE]…
 //! ```
 //!
 //! By default: the event-driven engine (exact integrator) at 10⁶ particles/s for 0.5 s on
-//! every core; `--raster` runs the raster at 10⁵ particles/s unless `--rate` says otherwise.
+//! every core; `--raster` runs the raster at 10⁵ particles/s unless `--rate` says otherwise;
+//! `--resolution` sets the reference wall's cells per side (1024 by default).
 
 use spraysim_bench::{ReferenceScene, measure, raster_pass};
 use spraysim_engine::motion::Integrator;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (mut euler, mut raster, mut rate, mut duration, mut threads) = (false, false, None, 0.5, 0);
+    let mut resolution = ReferenceScene::default().resolution;
     let mut sets = Vec::new();
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -25,6 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "--rate" => rate = Some(value("--rate")?.parse::<f64>()?),
             "--duration" => duration = value("--duration")?.parse()?,
             "-j" => threads = value("-j")?.parse()?,
+            "--resolution" => resolution = value("--resolution")?.parse()?,
             "--set" => sets.push(value("--set")?),
             other => return Err(format!("unknown argument {other:?}").into()),
         }
@@ -34,7 +37,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         raster_pass(rate.unwrap_or(1e5))?.with("simulation.duration", duration)?
     } else {
         let spawn_rate = rate.unwrap_or(1e6);
-        ReferenceScene { integrator, spawn_rate, duration, ..ReferenceScene::default() }.scenario()?
+        ReferenceScene { integrator, spawn_rate, duration, resolution, ..ReferenceScene::default() }
+            .scenario()?
     };
     if !euler {
         scenario = scenario.with("simulation.integrator", "exact")?;
