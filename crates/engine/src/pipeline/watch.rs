@@ -444,8 +444,7 @@ mod tests {
         assert_eq!(kept.len(), count as usize, "each odd particle's two entries");
         assert!(kept.iter().all(|&(id, wake)| id % 2 == 1 && wake > 100));
         for &n in &level.active {
-            let lowest = level.entries[n as usize].iter().map(|e| e.height).fold(f32::INFINITY, f32::min);
-            assert_eq!(level.low[n as usize], lowest);
+            assert_eq!(level.low[n as usize], super::lowest(&level.entries[n as usize]));
         }
     }
 

@@ -92,7 +92,7 @@ impl Primitive for Cylinder {
         if self.passes_by(&perp, arc.duration) {
             return None;
         }
-        self.solve_arc(arc, (len, u), &perp)
+        self.solve_arc(arc, (len, u), perp)
     }
 
     fn aabb(&self) -> Option<Aabb> {
@@ -132,8 +132,7 @@ impl Cylinder {
     /// of the mantle, the caps' quadratics), without the distance bound that
     /// [`Primitive::intersect_arc`] rejects passing arcs by first; `(len, u)` is
     /// [`Cylinder::axis`] and `perp` the arc's component perpendicular to it.
-    fn solve_arc(&self, arc: &Arc, (len, u): (f64, DVec3), perp: &[DVec3; 3]) -> Option<Hit> {
-        let perp = *perp;
+    fn solve_arc(&self, arc: &Arc, (len, u): (f64, DVec3), perp: [DVec3; 3]) -> Option<Hit> {
         if let Some(h) = super::inside_start(self, arc) {
             return Some(h);
         }
@@ -222,7 +221,7 @@ mod tests {
             };
             let (len, u) = bar.axis();
             let perp = arc.perpendicular(bar.a, u);
-            let full = bar.solve_arc(&arc, (len, u), &perp);
+            let full = bar.solve_arc(&arc, (len, u), perp);
             assert_eq!(bar.intersect_arc(&arc), full, "arc {arc:?}");
             match full {
                 Some(_) => hits += 1,
