@@ -606,15 +606,37 @@ impl HeightField {
         chart.uniform_normal()?;
         let (l0, l1) = (DVec3::from(chart.local(p0)), DVec3::from(chart.local(p1)));
         let d = l1 - l0;
-        let (ea, eb) = bisect(a, b, |m| {
+        // The cell over the point at fraction `m`, if the surface covers it, and its height.
+        let column = |m: f64| {
             let l = l0 + d * m;
-            if !chart.covers(l.x, l.y) {
-                return false;
+            (chart.covers(l.x, l.y).then(|| self.cell_at(l.x, l.y)), l.z)
+        };
+        let (mut a, mut b) = (a, b);
+        let (mut over_a, mut over_b) = (column(a).0, column(b).0);
+        for halving in 0..BISECTIONS {
+            // The in-face coordinates are monotone along the path, and so are the cell they
+            // fall in and whether the surface covers them: once both ends lie over one cell,
+            // so does every point between them, and only the height is left to compare.
+            if let (Some(ca), Some(cb)) = (over_a, over_b)
+                && ca == cb
+            {
+                let (solid, top) = (!self.is_hole(ca), self.thickness[ca as usize]);
+                for _ in halving..BISECTIONS {
+                    let m = 0.5 * (a + b);
+                    let held = solid & ((l0.z + d.z * m) <= top);
+                    (a, b) = if held { (a, m) } else { (m, b) };
+                }
+                break;
             }
-            let cell = self.cell_at(l.x, l.y);
-            self.holds(cell, l.z)
-        });
-        (!inside(ea) && inside(eb)).then_some((ea, eb))
+            let m = 0.5 * (a + b);
+            let (cell, h) = column(m);
+            if cell.is_some_and(|c| self.holds(c, h)) {
+                (b, over_b) = (m, cell);
+            } else {
+                (a, over_a) = (m, cell);
+            }
+        }
+        (!inside(a) && inside(b)).then_some((a, b))
     }
 
     /// The contact at `point` (fraction `s` of the path), entering cell `entered` and settling
@@ -633,10 +655,13 @@ impl HeightField {
     }
 }
 
-/// Narrows `[a, b]`, with `a` outside and `b` inside, to the entry by 32 halvings; returns the
-/// last outside and inside fractions.
+/// Halvings that narrow a path's entry into the layer.
+const BISECTIONS: usize = 32;
+
+/// Narrows `[a, b]`, with `a` outside and `b` inside, to the entry by [`BISECTIONS`] halvings;
+/// returns the last outside and inside fractions.
 fn bisect(mut a: f64, mut b: f64, inside: impl Fn(f64) -> bool) -> (f64, f64) {
-    for _ in 0..32 {
+    for _ in 0..BISECTIONS {
         let m = 0.5 * (a + b);
         if inside(m) {
             b = m;
@@ -781,6 +806,53 @@ mod tests {
         }
         assert!(accepted > 2950, "only {accepted} of {tried} interpolated entries accepted");
         assert!(same > 2900, "only {same} of {tried} entries as the plain bisection finds them");
+    }
+
+    /// Once both ends of the bracket lie over one cell, the flat narrowing compares heights
+    /// only: it must return, to the bit, what halving with every midpoint mapped to its cell
+    /// returns, over long and short brackets, across holes, edges and cell borders.
+    #[test]
+    fn narrowing_within_one_cell_finds_the_bracket_of_the_full_bisection() {
+        use crate::collision::Face;
+        let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
+        let mut f = HeightField::new(1.0, 1.0, 50, 40, 0.0);
+        f.set_holes((0..2000).map(|c| c % 7 == 3).collect());
+        let mut x: u64 = 5;
+        let mut next = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for c in 0..2000 {
+            f.add(c, 1e-2 * (0.2 + next()));
+        }
+        let (mut compared, mut found) = (0, 0);
+        for k in 0..20_000 {
+            // Paths over the face and past its edges, steep and grazing.
+            let p0 = DVec3::new(1.2 * (next() - 0.5), 1.2 * (next() - 0.5), 2e-2 * next());
+            let p1 = p0 + DVec3::new(0.1 * (next() - 0.5), 0.1 * (next() - 0.5), -2e-2 * next());
+            let inside = |s: f64| {
+                let (u, v, h) = Chart::local(&face, p0.lerp(p1, s));
+                Chart::covers(&face, u, v) && f.holds(f.cell_at(u, v), h)
+            };
+            let (l0, l1) = (DVec3::from(Chart::local(&face, p0)), DVec3::from(Chart::local(&face, p1)));
+            let mapped = |m: f64| {
+                let l = l0 + (l1 - l0) * m;
+                Chart::covers(&face, l.x, l.y) && f.holds(f.cell_at(l.x, l.y), l.z)
+            };
+            // Whole paths, and brackets of a fiftieth of one (a cell or so).
+            let (a, b) = if k % 2 == 0 {
+                (0.0, 1.0)
+            } else {
+                let a = 0.98 * next();
+                (a, a + 0.02)
+            };
+            let (ea, eb) = bisect(a, b, mapped);
+            let plain = (!inside(ea) && inside(eb)).then_some((ea, eb));
+            assert_eq!(f.entry_flat(&face, (p0, p1), (a, b), inside), plain, "{p0} → {p1} over [{a}, {b}]");
+            compared += 1;
+            found += usize::from(plain.is_some());
+        }
+        assert!(found > compared / 20, "only {found} entries in {compared} brackets");
     }
 
     /// The disc mean by brute force over cells, holes left out.
