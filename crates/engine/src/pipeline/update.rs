@@ -79,6 +79,18 @@ pub(super) fn run(
     }
 }
 
+/// The indices of the set bits of `mask`, ascending.
+#[inline]
+fn set_bits(mut mask: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let j = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            j
+        })
+    })
+}
+
 /// Longest stretch of flight one prediction solves, s: its bounding box, and with it the
 /// surfaces solved and the layer nodes watched, stays small.
 const PREDICT_SPAN: f64 = 0.064;
@@ -225,14 +237,19 @@ impl UpdateContext<'_> {
             for ((f, &a), &w) in flying.iter_mut().zip(alive).zip(wake) {
                 *f = (a & flags::ALIVE != 0) & (u64::from(w) <= self.step);
             }
+            // The awake slots as bits, visited in order without a branch per slot (which
+            // sleepers scattered through the block would mispredict).
+            const { assert!(BLOCK <= 64) };
+            let mask = flying.iter().enumerate().fold(0u64, |m, (j, &f)| m | (u64::from(f) << j));
+            let awake = mask.count_ones() as usize;
             // Event-driven flight leaves most slots asleep: a sparse block is stepped slot by
             // slot (with identical results), a dense one in lanes.
-            let awake = flying.iter().filter(|&&f| f).count();
             if awake * 4 >= end - start {
                 let slots = (&chunk.pos[start..end], &chunk.vel[start..end], &chunk.age[start..end]);
                 drift(self.lanes, &self.motion, self.dt, &limits, slots, &mut next);
             } else if awake > 0 {
-                for (j, i) in (start..end).enumerate().filter(|&(j, _)| flying[j]) {
+                for j in set_bits(mask) {
+                    let i = start + j;
                     next.step_one(
                         j,
                         &self.motion,
@@ -244,7 +261,8 @@ impl UpdateContext<'_> {
             } else {
                 continue;
             }
-            for (j, i) in (start..end).enumerate().filter(|&(j, _)| flying[j]) {
+            for j in set_bits(mask) {
+                let i = start + j;
                 out.updated += 1;
                 let age = f64::from(chunk.age[i]) + self.dt;
                 chunk.age[i] = next.age[j];
