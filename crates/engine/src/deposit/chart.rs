@@ -3,7 +3,7 @@
 //! and a height above the bare surface on the receiving side, and back.
 
 use super::MapAxis;
-use crate::collision::{CylinderShell, Face, Shape};
+use crate::collision::{Aabb, CylinderShell, Face, Shape};
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -38,6 +38,19 @@ pub trait Chart: Clone + Send + Sync + std::fmt::Debug + 'static {
         None
     }
 
+    /// Least and greatest `(u, v, height)` over the box `b`, for flat charts (where they are
+    /// affine, so the box's corners bound them): each component as [`Chart::local`] gives it.
+    fn box_range(&self, b: &Aabb) -> (DVec3, DVec3) {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for k in 0..8 {
+            let pick = |bit: usize, a: usize| if k & bit == 0 { b.min[a] } else { b.max[a] };
+            let (u, v, h) = self.local(DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2)));
+            let l = DVec3::new(u, v, h);
+            (lo, hi) = (lo.min(l), hi.max(l));
+        }
+        (lo, hi)
+    }
+
     /// The bare surface as a collision shape.
     fn shape(&self) -> Shape;
 
@@ -61,6 +74,17 @@ pub trait Chart: Clone + Send + Sync + std::fmt::Debug + 'static {
 impl Chart for Face {
     fn size(&self) -> (f64, f64) {
         (2.0 * self.half_width, 2.0 * self.half_height)
+    }
+
+    #[inline]
+    fn box_range(&self, b: &Aabb) -> (DVec3, DVec3) {
+        // Each coordinate is a dot product with a fixed axis: extreme at the box's centre
+        // plus or minus its half extent weighted by the axis's absolute components.
+        let (mid, half) = (0.5 * (b.min + b.max) - self.center, 0.5 * (b.max - b.min));
+        let at = DVec3::new(mid.dot(self.right), mid.dot(self.up), mid.dot(self.normal));
+        let reach =
+            DVec3::new(half.dot(self.right.abs()), half.dot(self.up.abs()), half.dot(self.normal.abs()));
+        (at - reach, at + reach)
     }
 
     #[inline]
@@ -195,6 +219,36 @@ impl Chart for ShellChart {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A face's range over a box, from its centre and half extent, is the range of its
+    /// corners (which the generic chart takes): to rounding, for faces turned every way.
+    #[test]
+    fn a_face_ranges_over_a_box_as_its_corners_do() {
+        let mut x: u64 = 3;
+        let mut next = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..2000 {
+            let mut v = || DVec3::new(next(), next(), next());
+            let (normal, up) = (v(), v());
+            if normal.cross(up).length() < 1e-3 {
+                continue;
+            }
+            let face = Face::new(v(), normal, up, [1.0, 2.0]);
+            let (a, b) = (v(), v() * 1e-2);
+            let b = Aabb { min: a.min(a + b), max: a.max(a + b) };
+            let (lo, hi) = face.box_range(&b);
+            let (mut c_lo, mut c_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for k in 0..8 {
+                let pick = |bit: usize, i: usize| if k & bit == 0 { b.min[i] } else { b.max[i] };
+                let l = DVec3::from(Chart::local(&face, DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2))));
+                (c_lo, c_hi) = (c_lo.min(l), c_hi.max(l));
+            }
+            assert!((lo - c_lo).abs().max_element() < 1e-14, "{lo} against the corners' {c_lo}");
+            assert!((hi - c_hi).abs().max_element() < 1e-14, "{hi} against the corners' {c_hi}");
+        }
+    }
 
     fn lining(inside: bool) -> ShellChart {
         let shell = CylinderShell::new(DVec3::ZERO, DVec3::Y, DVec3::X, 2.0, 4.0, [0.0, PI]).expect("valid");

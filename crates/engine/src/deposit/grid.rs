@@ -149,13 +149,7 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
         if self.chart.uniform_normal().is_none() {
             return Clearance::Unknown;
         }
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for k in 0..8 {
-            let pick = |bit: usize, a: usize| if k & bit == 0 { b.min[a] } else { b.max[a] };
-            let (u, v, h) = self.chart.local(DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2)));
-            let l = DVec3::new(u, v, h);
-            (lo, hi) = (lo.min(l), hi.max(l));
-        }
+        let (lo, hi) = self.chart.box_range(b);
         let (w, h) = self.chart.size();
         if hi.z < 0.0 || hi.x < -0.5 * w || lo.x > 0.5 * w || hi.y < -0.5 * h || lo.y > 0.5 * h {
             return Clearance::Free;
