@@ -41,14 +41,7 @@ pub trait Chart: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// Least and greatest `(u, v, height)` over the box `b`, for flat charts (where they are
     /// affine, so the box's corners bound them): each component as [`Chart::local`] gives it.
     fn box_range(&self, b: &Aabb) -> (DVec3, DVec3) {
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for k in 0..8 {
-            let pick = |bit: usize, a: usize| if k & bit == 0 { b.min[a] } else { b.max[a] };
-            let (u, v, h) = self.local(DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2)));
-            let l = DVec3::new(u, v, h);
-            (lo, hi) = (lo.min(l), hi.max(l));
-        }
-        (lo, hi)
+        corner_range(self, b)
     }
 
     /// The bare surface as a collision shape.
@@ -69,6 +62,17 @@ pub trait Chart: Clone + Send + Sync + std::fmt::Debug + 'static {
         let (w, h) = self.size();
         u.abs() <= 0.5 * w && v.abs() <= 0.5 * h
     }
+}
+
+/// Least and greatest `(u, v, height)` of `chart` over the eight corners of the box `b`.
+fn corner_range(chart: &impl Chart, b: &Aabb) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for k in 0..8 {
+        let pick = |bit: usize, a: usize| if k & bit == 0 { b.min[a] } else { b.max[a] };
+        let l = DVec3::from(chart.local(DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2))));
+        (lo, hi) = (lo.min(l), hi.max(l));
+    }
+    (lo, hi)
 }
 
 impl Chart for Face {
@@ -239,12 +243,7 @@ mod tests {
             let (a, b) = (v(), v() * 1e-2);
             let b = Aabb { min: a.min(a + b), max: a.max(a + b) };
             let (lo, hi) = face.box_range(&b);
-            let (mut c_lo, mut c_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for k in 0..8 {
-                let pick = |bit: usize, i: usize| if k & bit == 0 { b.min[i] } else { b.max[i] };
-                let l = DVec3::from(Chart::local(&face, DVec3::new(pick(1, 0), pick(2, 1), pick(4, 2))));
-                (c_lo, c_hi) = (c_lo.min(l), c_hi.max(l));
-            }
+            let (c_lo, c_hi) = corner_range(&face, &b);
             assert!((lo - c_lo).abs().max_element() < 1e-14, "{lo} against the corners' {c_lo}");
             assert!((hi - c_hi).abs().max_element() < 1e-14, "{hi} against the corners' {c_hi}");
         }

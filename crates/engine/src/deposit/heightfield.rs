@@ -720,6 +720,25 @@ impl ChangedCells {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::collision::Face;
+
+    /// Uniform numbers in [0, 1) from a linear congruential generator seeded with `seed`.
+    fn uniform(mut x: u64) -> impl FnMut() -> f64 {
+        move || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Whether the point at fraction `s` of the path `p0 → p1` lies in `f`'s layer on `face`,
+    /// each point mapped into the chart as the march maps it.
+    fn inside_of(f: &HeightField, face: Face, p0: DVec3, p1: DVec3) -> impl Fn(f64) -> bool + '_ {
+        move |s: f64| {
+            let (u, v, h) = Chart::local(&face, p0.lerp(p1, s));
+            let cell = f.cell_at(u, v);
+            Chart::covers(&face, u, v) && f.holds(cell, h)
+        }
+    }
 
     #[test]
     fn cells_grow_right_and_up_from_the_bottom_left() {
@@ -735,14 +754,9 @@ mod tests {
     /// the full march finds, on a rough layer, for steep and grazing paths alike.
     #[test]
     fn skipping_over_the_pyramid_finds_the_same_contact_as_the_full_march() {
-        use crate::collision::Face;
         let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
         let mut f = HeightField::new(1.0, 1.0, 300, 200, 0.004);
-        let mut x: u64 = 7;
-        let mut next = || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(7);
         // Sparse tall spikes over a thin film: most of the path lies just above the film.
         for _ in 0..3000 {
             let cell = (next() * 60_000.0) as u32;
@@ -773,24 +787,12 @@ mod tests {
     /// (where a half cell holds several entries the two may settle on different ones).
     #[test]
     fn the_entry_on_a_flat_face_is_the_bisection_of_the_path_itself() {
-        use crate::collision::Face;
         let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
         let mut f = HeightField::new(1.0, 1.0, 200, 100, 0.0);
         f.set_holes((0..20_000).map(|c| c % 13 == 5).collect());
-        let mut x: u64 = 11;
-        let mut next = || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(11);
         for c in 0..20_000 {
             f.add(c, 1e-3 * (0.2 + next()));
-        }
-        fn inside_of(f: &HeightField, face: Face, p0: DVec3, p1: DVec3) -> impl Fn(f64) -> bool + '_ {
-            move |s: f64| {
-                let (u, v, h) = Chart::local(&face, p0.lerp(p1, s));
-                let cell = f.cell_at(u, v);
-                Chart::covers(&face, u, v) && f.holds(cell, h)
-            }
         }
         let (mut tried, mut accepted, mut same) = (0, 0, 0);
         while tried < 3000 {
@@ -815,15 +817,10 @@ mod tests {
     /// returns, over long and short brackets, across holes, edges and cell borders.
     #[test]
     fn narrowing_within_one_cell_finds_the_bracket_of_the_full_bisection() {
-        use crate::collision::Face;
         let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
         let mut f = HeightField::new(1.0, 1.0, 50, 40, 0.0);
         f.set_holes((0..2000).map(|c| c % 7 == 3).collect());
-        let mut x: u64 = 5;
-        let mut next = || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(5);
         for c in 0..2000 {
             f.add(c, 1e-2 * (0.2 + next()));
         }
@@ -832,10 +829,7 @@ mod tests {
             // Paths over the face and past its edges, steep and grazing.
             let p0 = DVec3::new(1.2 * (next() - 0.5), 1.2 * (next() - 0.5), 2e-2 * next());
             let p1 = p0 + DVec3::new(0.1 * (next() - 0.5), 0.1 * (next() - 0.5), -2e-2 * next());
-            let inside = |s: f64| {
-                let (u, v, h) = Chart::local(&face, p0.lerp(p1, s));
-                Chart::covers(&face, u, v) && f.holds(f.cell_at(u, v), h)
-            };
+            let inside = inside_of(&f, face, p0, p1);
             let (l0, l1) = (DVec3::from(Chart::local(&face, p0)), DVec3::from(Chart::local(&face, p1)));
             let mapped = |m: f64| {
                 let l = l0 + (l1 - l0) * m;
