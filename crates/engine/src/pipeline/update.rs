@@ -231,16 +231,14 @@ impl UpdateContext<'_> {
         let limits = Limits { domain: self.domain, max_age: self.max_lifetime };
         for start in (0..chunk.pos.len()).step_by(BLOCK) {
             let end = (start + BLOCK).min(chunk.pos.len());
-            let mut flying = [false; BLOCK];
-            // Without a branch, so that the test runs over the block in lanes.
-            let (alive, wake) = (&chunk.flags[start..end], &chunk.wake[start..end]);
-            for ((f, &a), &w) in flying.iter_mut().zip(alive).zip(wake) {
-                *f = (a & flags::ALIVE != 0) & (u64::from(w) <= self.step);
-            }
-            // The awake slots as bits, visited in order without a branch per slot (which
-            // sleepers scattered through the block would mispredict).
+            // The awake slots as bits, tested without a branch (so that the test runs over the
+            // block in lanes) and visited in order without a branch per slot (which sleepers
+            // scattered through the block would mispredict).
             const { assert!(BLOCK <= 64) };
-            let mask = flying.iter().enumerate().fold(0u64, |m, (j, &f)| m | (u64::from(f) << j));
+            let (alive, wake) = (&chunk.flags[start..end], &chunk.wake[start..end]);
+            let mask = alive.iter().zip(wake).enumerate().fold(0u64, |m, (j, (&a, &w))| {
+                m | (u64::from((a & flags::ALIVE != 0) & (u64::from(w) <= self.step)) << j)
+            });
             let awake = mask.count_ones() as usize;
             // Event-driven flight leaves most slots asleep: a sparse block is stepped slot by
             // slot (with identical results), a dense one in lanes.
