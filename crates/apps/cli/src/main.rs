@@ -161,6 +161,12 @@ enum Command {
         /// Short variants (0.2 s of spraying each) timed for the optimisation-loop figure.
         #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(1..=100_000))]
         variants: u32,
+        /// Divide by the paper-equivalent implementation's recorded figure instead of building
+        /// it with the C++ compiler (`$CXX`, else `c++`, `g++` or `clang++`) and timing it on the
+        /// same rate and duration in this run (what happens by default, when a compiler is
+        /// present).
+        #[arg(long)]
+        recorded_baseline: bool,
     },
 }
 
@@ -266,10 +272,16 @@ fn dispatch(command: Command) -> Result<()> {
         }
         Command::Resume { dir, threads, quiet } => resume(&dir, threads, quiet),
         Command::Check { scenario, set, resolved } => check(&scenario, &set, resolved),
-        Command::Bench { spawn_rate, duration, threads, repeats, variants } => {
+        Command::Bench { spawn_rate, duration, threads, repeats, variants, recorded_baseline } => {
             let (repeats, variants) = (repeats as usize, variants as usize);
-            let settings =
-                spraysim_bench::MatrixSettings { spawn_rate, duration, threads, repeats, variants };
+            let settings = spraysim_bench::MatrixSettings {
+                spawn_rate,
+                duration,
+                threads,
+                repeats,
+                variants,
+                measure_baseline: !recorded_baseline,
+            };
             spraysim_bench::run_matrix(&settings, &mut std::io::stdout().lock())?;
             render::bench_line()
         }

@@ -15,6 +15,8 @@ use spraysim_scenario::{Scenario, ScenarioError};
 use std::fmt::Write;
 use std::time::Instant;
 
+pub mod baseline;
+
 pub use spraysim_engine::SetupError;
 
 /// Why a benchmark could not run.
@@ -192,9 +194,10 @@ pub fn time_cohesion(side: usize, repeats: usize) -> f64 {
 }
 
 /// Particles per second brought to their final fate by the paper-equivalent implementation
-/// (single-threaded C++: forward Euler, every obstacle tested at every step, no broad phase) on
-/// the reference scene at 10⁶ particles/s for 0.5 s, recorded on the 2-core development machine
-/// (built with `g++ -O3 -march=native`): the yardstick the table's last column divides by.
+/// (single-threaded C++: forward Euler, every obstacle tested at every step, no broad phase;
+/// [`baseline`]) on the reference scene at 10⁶ particles/s for 0.5 s, recorded on the 2-core
+/// development machine (built with `g++ -O3 -march=native`): the yardstick the "× paper
+/// baseline" column divides by when the bench cannot build and time the implementation itself.
 pub const PAPER_BASELINE_PARTICLES_PER_SECOND: f64 = 5.56e4;
 
 /// Runs `count` short variants of the reference scene (0.2 s of spraying at its default rate,
@@ -358,6 +361,10 @@ pub struct MatrixSettings {
     pub repeats: usize,
     /// Short variants timed for the optimisation-loop figure.
     pub variants: usize,
+    /// Whether to build and time the paper-equivalent implementation in this run (falling back
+    /// to [`PAPER_BASELINE_PARTICLES_PER_SECOND`] without a C++ compiler) rather than divide by
+    /// that recorded figure.
+    pub measure_baseline: bool,
 }
 
 /// One row of the table: a name, a scene, a thread count and the free-flight kernel's lanes.
@@ -386,6 +393,41 @@ fn variants(m: &MatrixSettings, all: usize) -> Vec<Row> {
     ]
 }
 
+/// The paper-equivalent implementation's particles per second to fate on the throughput runs'
+/// scene, rate and duration: timed now (median of `m.repeats` runs) if asked and a C++
+/// compiler builds it, else the recorded figure. Writes a line to `out` saying which.
+fn paper_baseline(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<f64, BenchError> {
+    let recorded = PAPER_BASELINE_PARTICLES_PER_SECOND;
+    if !m.measure_baseline {
+        writeln!(
+            out,
+            "paper baseline: the recorded {recorded:.3e} particles/s to fate (not timed in this run)\n"
+        )?;
+        return Ok(recorded);
+    }
+    let timed = baseline::Baseline::build()
+        .and_then(|b| Ok((b.run_median(m.spawn_rate, m.duration, m.repeats)?, b.compiler)));
+    match timed {
+        Ok((run, compiler)) => {
+            writeln!(
+                out,
+                "paper baseline: timed in this run ({compiler} {}, median of {}): {:.3e} particles/s to fate ({} of {} emitted in {:.2} s; recorded figure {recorded:.3e})\n",
+                baseline::FLAGS.join(" "),
+                m.repeats.max(1),
+                run.particles_per_second(),
+                run.retired,
+                run.emitted,
+                run.seconds,
+            )?;
+            Ok(run.particles_per_second())
+        }
+        Err(e) => {
+            writeln!(out, "paper baseline: the recorded {recorded:.3e} particles/s to fate, because {e}\n")?;
+            Ok(recorded)
+        }
+    }
+}
+
 /// Times the reference scene and its scaling variants and writes a Markdown table to `out`,
 /// then the 60 s raster, the cohesion analysis and the storage per particle.
 pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(), BenchError> {
@@ -409,6 +451,7 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
         .map(|(name, scene, threads, lanes)| Ok((name, scene.scenario()?, threads, lanes)))
         .collect::<Result<Vec<_>, BenchError>>()?;
     let raster = raster_pass(1e5)?;
+    let paper = paper_baseline(m, out)?;
     writeln!(
         out,
         "reference scene, Δt = 1 ms, forward Euler, {:.0} particles/s for {} s unless noted; free-flight kernel on {:?} lanes unless noted; each row the median of {} timed runs after a warm-up\n",
@@ -435,7 +478,7 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
             r.particle_steps_per_second(),
             100.0 * r.worked_share(),
             r.particles_per_second(),
-            r.particles_per_second() / PAPER_BASELINE_PARTICLES_PER_SECOND,
+            r.particles_per_second() / paper,
             r.real_time_factor(),
             r.peak_rss as f64 / (1024.0 * 1024.0)
         )?;
