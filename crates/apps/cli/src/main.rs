@@ -162,9 +162,9 @@ enum Command {
         #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(1..=100_000))]
         variants: u32,
         /// Divide by the paper-equivalent implementation's recorded figure instead of building
-        /// it with the C++ compiler (`$CXX`, else `c++`, `g++` or `clang++`) and timing it on the
-        /// same rate and duration in this run (what happens by default, when a compiler is
-        /// present).
+        /// it with the C++ compiler (`$CXX`, else `c++`, `g++` or `clang++`) and timing it at
+        /// the same rate and duration in this run, as the bench does by default (falling back
+        /// to the recorded figure, and saying why, where it cannot be built or run).
         #[arg(long)]
         recorded_baseline: bool,
     },
