@@ -107,10 +107,8 @@ impl BaselineRun {
 
     /// The run of median time of `runs` (the later of the middle two of an even count); `None`
     /// for none.
-    pub fn median(mut runs: Vec<BaselineRun>) -> Option<BaselineRun> {
-        runs.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
-        let middle = runs.len() / 2;
-        (!runs.is_empty()).then(|| runs.swap_remove(middle))
+    pub fn median(runs: Vec<BaselineRun>) -> Option<BaselineRun> {
+        crate::median_by(runs, |r| r.seconds)
     }
 }
 

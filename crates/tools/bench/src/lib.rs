@@ -330,10 +330,17 @@ pub fn measure_median(
     let s = scenario.simulation();
     let warm = scenario.with("simulation.duration", (0.1 * s.duration).max(s.dt))?;
     measure_on(&warm, threads, lanes)?;
-    let mut runs =
+    let runs =
         (0..repeats.max(1)).map(|_| measure_on(scenario, threads, lanes)).collect::<Result<Vec<_>, _>>()?;
-    runs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
-    Ok(runs.swap_remove(runs.len() / 2))
+    median_by(runs, |r| r.wall).ok_or_else(|| BenchError::Settings("no timed run".into()))
+}
+
+/// The element of median `time` (s) of `runs` (the later of the middle two of an even count);
+/// `None` for none.
+pub fn median_by<T>(mut runs: Vec<T>, time: impl Fn(&T) -> f64) -> Option<T> {
+    runs.sort_by(|a, b| time(a).total_cmp(&time(b)));
+    let middle = runs.len() / 2;
+    (!runs.is_empty()).then(|| runs.swap_remove(middle))
 }
 
 /// Peak resident set size of this process, bytes, from `/proc/self/status` (0 if unavailable).
@@ -362,8 +369,8 @@ pub struct MatrixSettings {
     /// Short variants timed for the optimisation-loop figure.
     pub variants: usize,
     /// Whether to build and time the paper-equivalent implementation in this run (falling back
-    /// to [`PAPER_BASELINE_PARTICLES_PER_SECOND`] without a C++ compiler) rather than divide by
-    /// that recorded figure.
+    /// to [`PAPER_BASELINE_PARTICLES_PER_SECOND`] where it cannot be built or run) rather than
+    /// divide by that recorded figure.
     pub measure_baseline: bool,
 }
 
@@ -515,33 +522,40 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
 mod tests {
     use super::*;
 
-    fn settings(measure_baseline: bool, duration: f64) -> MatrixSettings {
-        MatrixSettings { spawn_rate: 1e4, duration, threads: 1, repeats: 1, variants: 1, measure_baseline }
+    /// The baseline's rate and the line it printed, at 10⁴ particles/s for `duration` s.
+    fn baseline_line(measure_baseline: bool, duration: f64) -> (f64, String) {
+        let m = MatrixSettings {
+            spawn_rate: 1e4,
+            duration,
+            threads: 1,
+            repeats: 1,
+            variants: 1,
+            measure_baseline,
+        };
+        let mut out = Vec::new();
+        let rate = paper_baseline(&m, &mut out).expect("a rate or a fallback, never an error");
+        (rate, String::from_utf8_lossy(&out).into_owned())
     }
 
     #[test]
     fn the_recorded_baseline_is_used_when_asked_and_said() {
-        let mut out = Vec::new();
-        let rate = paper_baseline(&settings(false, 0.2), &mut out).expect("no timing to fail");
+        let (rate, line) = baseline_line(false, 0.2);
         assert_eq!(rate, PAPER_BASELINE_PARTICLES_PER_SECOND);
-        assert!(String::from_utf8_lossy(&out).contains("not timed in this run"));
+        assert!(line.contains("not timed in this run"), "{line}");
     }
 
     #[test]
     fn a_baseline_that_cannot_be_timed_falls_back_to_the_recorded_one_and_says_why() {
         // 20 ms: no particle reaches a surface, so there is no rate to divide by (or no
         // compiler, which falls back the same way).
-        let mut out = Vec::new();
-        let rate = paper_baseline(&settings(true, 0.02), &mut out).expect("a fallback, not an error");
+        let (rate, line) = baseline_line(true, 0.02);
         assert_eq!(rate, PAPER_BASELINE_PARTICLES_PER_SECOND);
-        assert!(String::from_utf8_lossy(&out).contains("because"));
+        assert!(line.contains("because"), "{line}");
     }
 
     #[test]
     fn a_timed_baseline_is_the_rate_it_printed() {
-        let mut out = Vec::new();
-        let rate = paper_baseline(&settings(true, 0.2), &mut out).expect("timed or fallen back");
-        let line = String::from_utf8_lossy(&out);
+        let (rate, line) = baseline_line(true, 0.2);
         if line.contains("timed in this run") {
             assert!(rate.is_finite() && rate > 0.0 && rate != PAPER_BASELINE_PARTICLES_PER_SECOND, "{line}");
             assert!(line.contains(&format!("{rate:.3e}")), "{line}");
