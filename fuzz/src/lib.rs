@@ -53,3 +53,16 @@ pub fn profile(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let _ = spraysim_calibrate::MeasuredProfile::from_csv(text, "fuzz.csv");
 }
+
+/// A checkpoint's engine state for the example wall 0.1 s run: restored (or refused) and, when
+/// accepted, stepped to the end of the run.
+pub fn checkpoint(data: &[u8]) {
+    let config = spraysim::SimulationConfig::example_wall(0.1);
+    let Ok(mut sim) = spraysim::Simulation::new(config) else { return };
+    if sim.restore_state(data).is_ok() {
+        while !sim.is_finished() {
+            sim.step();
+        }
+        let _ = sim.metrics();
+    }
+}

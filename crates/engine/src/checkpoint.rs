@@ -30,6 +30,10 @@ pub enum StateError {
     /// The state does not belong to this simulation's configuration.
     #[error("the saved state does not fit this scenario: {0}")]
     Mismatch(String),
+    /// A value the state holds is impossible: non-finite, negative, outside the domain, beyond
+    /// a counter's range.
+    #[error("the saved state is invalid: {0}")]
+    Invalid(String),
     /// Bytes are left after the state.
     #[error("the saved state has {0} bytes too many")]
     Trailing(usize),

@@ -137,6 +137,10 @@ pub struct ConfigError {
     pub message: String,
 }
 
+/// Largest coordinate magnitude a position may have on any axis, m: beyond any construction
+/// site, and small enough that squares and sums of coordinates stay far from overflow.
+pub const MAX_COORD: f64 = 1e4;
+
 /// Most steps and most particles one run may take: step and particle indices are 32-bit.
 const MAX_STEPS: f64 = 4e9;
 
@@ -180,8 +184,8 @@ impl SimulationConfig {
         if self.max_impacts_per_step == 0 {
             return bad("max_impacts_per_step", "must be at least 1".into());
         }
-        if self.nozzle.waypoints().is_empty() {
-            return bad("nozzle", "must have at least one waypoint".into());
+        if let Err(message) = self.nozzle.check(MAX_COORD) {
+            return bad("nozzle", message);
         }
         let mut names: Vec<&str> = self.targets.iter().map(|t| t.name.as_str()).collect();
         names.extend(self.obstacles.iter().map(|o| o.name.as_str()));

@@ -49,4 +49,4 @@ pub mod world;
 
 pub use config::SimulationConfig;
 pub use metrics::Metrics;
-pub use pipeline::{SetupError, Simulation};
+pub use pipeline::{SetupError, Simulation, check_threads, max_threads};

@@ -198,7 +198,7 @@ fn the_nozzle_path_can_be_replaced_between_steps() {
         sim.step();
     }
     // Closed-loop control: a new path from now on.
-    sim.set_nozzle_path(pose(0.7, sim.time(), 0.1));
+    sim.set_nozzle_path(pose(0.7, sim.time(), 0.1)).expect("a valid path");
     sim.run(|_| {});
     let floor = sim.targets()[0].surface.as_rectangle().expect("a rectangle");
     // Volume on the floor around x (m), within 0.4 m.

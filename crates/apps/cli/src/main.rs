@@ -3,6 +3,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use spraysim::output::OutputDir;
 use spraysim::{Metrics, Scenario};
 use spraysim_calibrate::{CalibrationSettings, FitParam, ProfileShape};
 use std::io::{ErrorKind, Write};
@@ -376,10 +377,10 @@ fn load(path: Option<&Path>, set: &[String]) -> Result<Scenario> {
     Ok(sc)
 }
 
-/// Refuses an output directory that cannot be written, before any time is spent.
-fn writable(dir: &Path) -> Result<()> {
-    spraysim::output::check_writable(dir)
-        .with_context(|| format!("output directory {} is not writable", dir.display()))
+/// Creates (if needed) and locks the output directory `dir`, refusing one that cannot be
+/// written or that another writer holds.
+fn lock(dir: &Path) -> Result<OutputDir> {
+    OutputDir::lock(dir).with_context(|| format!("output directory {}", dir.display()))
 }
 
 /// `10s`, `500ms` or `2.5` (seconds) as seconds, above 0.
@@ -419,31 +420,50 @@ fn run(
     quiet: bool,
     checkpoint_every: Option<f64>,
 ) -> Result<()> {
-    // The resolved scenario written with the outputs names the directory they went to.
+    // The resolved scenario written with the outputs names the directory they went to (in
+    // TOML, which holds UTF-8 only).
     let scenario = &match output {
-        Some(dir) => scenario.with("output.directory", dir.display().to_string())?,
+        Some(dir) => {
+            let Some(text) = dir.to_str() else {
+                anyhow::bail!(
+                    "output directory {}: not valid UTF-8, which the resolved scenario cannot record: \
+                     choose a name in UTF-8",
+                    dir.display()
+                );
+            };
+            scenario.with("output.directory", text)?
+        }
         None => scenario.clone(),
     };
-    let dir = PathBuf::from(&scenario.output().directory);
-    writable(&dir)?;
     warn_size(scenario);
-    // Refused or set up before anything runs: a build without 3D views, or no graphics adapter.
+    // Refused or set up before anything is written: a build without 3D views, or no graphics
+    // adapter, a thread count beyond the machine's.
     let recorder = render::recorder(scenario)?;
     let mut sim = scenario.build()?;
     sim.set_threads(threads)?;
     let every = checkpoint_every.map(|t| (t / scenario.simulation().dt).round().max(1.0) as u64);
+    let dir = lock(Path::new(&scenario.output().directory))?;
     // A new run replaces the directory's run: an earlier run's checkpoint no longer applies.
     spraysim::output::checkpoint::remove_checkpoint(&dir);
+    dir.record_run(&scenario.to_toml())?;
     execute(scenario, sim, &dir, (every, recorder), quiet)
 }
 
 /// Continues the run whose checkpoint is in `dir`.
-fn resume(dir: &Path, threads: usize, quiet: bool) -> Result<()> {
+fn resume(path: &Path, threads: usize, quiet: bool) -> Result<()> {
     use spraysim::output::checkpoint;
-    let ck = checkpoint::read_checkpoint(dir).context("cannot resume")?;
-    let origin = dir.join(checkpoint::CHECKPOINT_FILE).display().to_string();
+    spraysim::check_threads(threads)?;
+    if !path.is_dir() {
+        anyhow::bail!("cannot resume: {} is not a directory", path.display());
+    }
+    // Locked first: a second resume of the same run is refused before it reads anything.
+    let dir = lock(path).context("cannot resume")?;
+    let ck = checkpoint::read_checkpoint(path).context("cannot resume")?;
+    if let Some(warning) = checkpoint::check_belongs(&dir, &ck).context("cannot resume")? {
+        eprintln!("warning: {warning}");
+    }
+    let origin = path.join(checkpoint::CHECKPOINT_FILE).display().to_string();
     let scenario = Scenario::from_toml(&ck.scenario, &origin)?;
-    writable(dir)?;
     let mut recorder = render::recorder(&scenario)?;
     let mut sim = scenario.build()?;
     sim.restore_state(&ck.state).with_context(|| format!("{origin}: cannot resume"))?;
@@ -453,7 +473,7 @@ fn resume(dir: &Path, threads: usize, quiet: bool) -> Result<()> {
     if !quiet {
         say!("resuming at t = {:.3} s of {} s", sim.time(), scenario.simulation().duration);
     }
-    execute(&scenario, sim, dir, ((ck.every_steps > 0).then_some(ck.every_steps), recorder), quiet)
+    execute(&scenario, sim, &dir, ((ck.every_steps > 0).then_some(ck.every_steps), recorder), quiet)
 }
 
 /// Exit status of a run stopped by Ctrl-C (128 + SIGINT).
@@ -487,18 +507,17 @@ fn handle_interrupts() -> Result<()> {
 fn execute(
     scenario: &Scenario,
     mut sim: spraysim::Simulation,
-    dir: &Path,
+    dir: &OutputDir,
     (every, mut recorder): (Option<u64>, render::Recorder),
     quiet: bool,
 ) -> Result<()> {
     use spraysim::output::{checkpoint, control};
     handle_interrupts()?;
-    checkpoint::clean_temporary(dir);
     let save = |sim: &spraysim::Simulation, k: u64| {
         let ck =
             checkpoint::Checkpoint { scenario: scenario.to_toml(), every_steps: k, state: sim.save_state() };
         checkpoint::write_checkpoint(dir, &ck)
-            .with_context(|| format!("writing a checkpoint into {}", dir.display()))
+            .with_context(|| format!("writing a checkpoint into {}", dir.path().display()))
     };
     let bar = progress_bar(&sim, quiet);
     let (start, redraw) = (Instant::now(), (sim.total_steps() / 200).max(1));
@@ -529,7 +548,7 @@ fn execute(
     }
     let views = recorder.finish(&sim, quiet)?;
     let files = spraysim::output::write_outputs_with(&sim, scenario, dir, views)
-        .with_context(|| format!("writing outputs to {}", dir.display()))?;
+        .with_context(|| format!("writing outputs to {}", dir.path().display()))?;
     if control::interrupts() >= 2 {
         // A second Ctrl-C came while the files moved into place: they are, so stop now.
         std::process::exit(INTERRUPTED);
@@ -539,11 +558,11 @@ fn execute(
     }
     if !quiet {
         print_summary(&sim.metrics(), wall)?;
-        say!("wrote {} files to {}", files.len(), dir.display());
+        say!("wrote {} files to {}", files.len(), dir.path().display());
     }
     if !completed {
         let resume = if every.is_some() {
-            format!("; `spraysim resume {}` continues it", dir.display())
+            format!("; `spraysim resume {}` continues it", dir.path().display())
         } else {
             String::new()
         };
@@ -675,14 +694,15 @@ fn validate(output: &Path, size: f64, threads: usize) -> Result<()> {
     if !(size.is_finite() && (0.01..=1000.0).contains(&size)) {
         anyhow::bail!("--size must be between 0.01 and 1000, got {size}");
     }
-    writable(output)?;
+    spraysim::check_threads(threads)?;
+    let dir = lock(output)?;
     let start = Instant::now();
     let report = spraysim_validate::report(spraysim_validate::Size::times(size), threads, |name| {
         eprintln!("[{:>6.1} s] {name}", start.elapsed().as_secs_f64());
     });
     let files = report
         .files()
-        .and_then(|f| spraysim::output::write_all(output, &f))
+        .and_then(|f| dir.write_set(&f))
         .with_context(|| format!("writing the report to {}", output.display()))?;
     for v in &report.verdicts {
         say!("{:<6} {}: {} ({})", if v.passed { "pass" } else { "FAIL" }, v.name, v.statistic, v.criterion);
@@ -706,7 +726,7 @@ fn calibrate(
     use spraysim_calibrate::MeasuredProfile;
     let scenario = Scenario::from_path(path)?;
     let measured = MeasuredProfile::from_path(profile)?;
-    writable(output)?;
+    spraysim::check_threads(settings.threads)?;
     // Nelder–Mead's evaluation count is not known in advance: a spinner with the best error.
     let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new_spinner() };
     bar.set_style(
@@ -726,8 +746,11 @@ fn calibrate(
         bar.tick();
     })?;
     bar.finish_and_clear();
+    // Locked once the fit is done: the fit's refusals (a target it does not have, say) then
+    // leave no folder behind.
+    let dir = lock(output)?;
     let files = spraysim_calibrate::files::files(&cal, &measured)
-        .and_then(|f| spraysim::output::write_all(output, &f))
+        .and_then(|f| dir.write_set(&f))
         .with_context(|| format!("writing outputs to {}", output.display()))?;
     if !quiet {
         say!("{} evaluations, {} iterations ({})", cal.evaluations, cal.iterations, cal.termination);

@@ -239,11 +239,11 @@ mod imp {
     pub fn render(args: &RenderArgs) -> Result<()> {
         let sc = crate::load(args.scenario.as_deref(), &args.set)?;
         let p = params(args, &sc)?;
-        crate::writable(&args.output)?;
         let start = std::time::Instant::now();
         let mut rec = record::Recorder::new(&sc, &p, &Default::default())?;
         let mut sim = sc.build()?;
         sim.set_threads(args.threads)?;
+        let dir = crate::lock(&args.output)?;
         let bar = if args.quiet { ProgressBar::hidden() } else { ProgressBar::new(sim.total_steps()) };
         bar.set_style(
             ProgressStyle::with_template("{bar:40.cyan/blue} {percent:>3}% t = {msg} [{elapsed_precise}]")
@@ -259,7 +259,8 @@ mod imp {
         bar.finish_and_clear();
         let adapter = rec.describe();
         let recording = rec.finish(&sim)?;
-        let files = spraysim::output::write_all(&args.output, &recording.files)
+        let files = dir
+            .write_set(&recording.files)
             .with_context(|| format!("writing to {}", args.output.display()))?;
         if !args.quiet {
             for n in &recording.notes {

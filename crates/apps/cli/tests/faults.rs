@@ -5,9 +5,9 @@
 //! and waits for an interrupt), so each signal lands at a known moment without any timing.
 #![cfg(unix)]
 
-use std::io::{BufRead, BufReader};
-use std::path::Path;
-use std::process::{Child, ChildStderr, Command, Output, Stdio};
+mod common;
+
+use common::{contents, listing, one_complete_set, paused_at, signal, spraysim, wait_for};
 
 const SCENE: &str = r#"
 [simulation]
@@ -30,91 +30,6 @@ up = [1.0, 0.0, 0.0]
 size = [4.0, 3.0]
 resolution = [16, 16]
 "#;
-
-fn spraysim(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_spraysim"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("spraysim starts")
-}
-
-/// Starts `spraysim ARGS` pausing at `point` (several: comma-separated), and waits until it
-/// has reached the first.
-fn paused_at(args: &[&str], cwd: &Path, point: &str) -> (Child, BufReader<ChildStderr>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_spraysim"))
-        .args(args)
-        .current_dir(cwd)
-        .env("SPRAYSIM_PAUSE_AT", point)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spraysim starts");
-    let mut err = BufReader::new(child.stderr.take().expect("stderr"));
-    let first = point.split(',').next().unwrap_or(point);
-    wait_for(&mut err, &format!("paused at {first}"));
-    (child, err)
-}
-
-/// Reads stderr until a line contains `what` (panics if the child ends first).
-fn wait_for(err: &mut BufReader<ChildStderr>, what: &str) {
-    let mut line = String::new();
-    loop {
-        line.clear();
-        assert!(err.read_line(&mut line).expect("stderr") > 0, "the child ended before `{what}`");
-        if line.contains(what) {
-            return;
-        }
-    }
-}
-
-fn signal(child: &Child, name: &str) {
-    let status =
-        Command::new("kill").args([&format!("-{name}"), &child.id().to_string()]).status().expect("kill");
-    assert!(status.success());
-}
-
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
-/// `dir` holds exactly the set its `metrics.json` lists (sizes checked) beside the writer's
-/// list of names; returns the metrics.
-fn one_complete_set(dir: &Path) -> serde_json::Value {
-    let metrics: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("metrics.json")).expect("metrics.json"))
-            .expect("json");
-    let mut expected = vec!["metrics.json".to_string(), ".spraysim-files".to_string()];
-    for f in metrics["files"].as_array().expect("manifest") {
-        let name = f["name"].as_str().expect("name").to_string();
-        let len = std::fs::metadata(dir.join(&name)).expect("listed file present").len();
-        assert_eq!(len, f["bytes"].as_u64().expect("bytes"), "{name}");
-        expected.push(name);
-    }
-    expected.sort();
-    // A checkpoint, and a staging folder an abort left (the next write removes it), are not
-    // part of the set.
-    let names: Vec<String> = listing(dir)
-        .into_iter()
-        .filter(|n| n != "checkpoint.spraysim" && !n.starts_with(".spraysim-staging-"))
-        .collect();
-    assert_eq!(names, expected);
-    metrics
-}
-
-/// Every file of `dir` with its contents, but a staging folder left by an abort.
-fn contents(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    listing(dir)
-        .into_iter()
-        .filter(|n| !n.starts_with(".spraysim-staging-"))
-        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).expect("read")))
-        .collect()
-}
 
 fn setup() -> tempfile::TempDir {
     let tmp = tempfile::tempdir().expect("tempdir");

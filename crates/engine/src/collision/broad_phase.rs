@@ -316,9 +316,14 @@ impl Grid {
     /// Calls `visit` with the surfaces of each cell the segment `p0 → p1` passes through, in
     /// order along it, with the segment fraction at which that cell is left. `visit` returns the
     /// fraction of the best hit so far; the walk stops once no later cell can beat it.
+    ///
+    /// A segment with a non-finite end meets nothing and visits no cell: the checks at every
+    /// way in (configuration, nozzle paths, checkpoints) keep such a state out of a run, and
+    /// the walk must end whatever it is given. It visits at most one cell per grid line it can
+    /// cross, so it ends for any input.
     #[inline]
     pub fn walk(&self, p0: DVec3, p1: DVec3, mut visit: impl FnMut(&[u32]) -> f64) {
-        if self.start.is_empty() {
+        if self.start.is_empty() || !(p0.is_finite() && p1.is_finite()) {
             return;
         }
         let c0 = self.cell_of(p0);
@@ -359,7 +364,8 @@ impl Grid {
                 t_delta[a] = self.cell / d[a].abs();
             }
         }
-        loop {
+        let most = self.dims.x + self.dims.y + self.dims.z;
+        for _ in 0..most {
             let best = visit(self.cell_items(c));
             let exit = t_max.min_element();
             if best <= exit || exit >= t_out {
@@ -450,6 +456,32 @@ fn dilate(cells: &[u8], stride: usize, len: usize) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_walk_with_a_non_finite_end_ends_at_once_and_visits_nothing() {
+        let b = Aabb { min: DVec3::splat(-1.0), max: DVec3::splat(1.0) };
+        let small = Aabb { min: DVec3::splat(-0.1), max: DVec3::splat(0.1) };
+        let grid = Grid::new(&[Some(small), Some(b)], b);
+        let finite = DVec3::new(-0.9, 0.0, 0.0);
+        for bad in [DVec3::new(f64::NAN, 0.0, 0.0), DVec3::new(0.0, f64::INFINITY, 0.0), DVec3::NEG_INFINITY]
+        {
+            for (p0, p1) in [(finite, bad), (bad, finite), (bad, bad)] {
+                let mut visits = 0;
+                grid.walk(p0, p1, |_| {
+                    visits += 1;
+                    f64::INFINITY
+                });
+                assert_eq!(visits, 0, "{p0} → {p1}");
+            }
+        }
+        // A finite segment across the grid still visits the cells on its way.
+        let mut visits = 0;
+        grid.walk(finite, DVec3::new(0.9, 0.3, -0.2), |_| {
+            visits += 1;
+            f64::INFINITY
+        });
+        assert!(visits > 1);
+    }
 
     /// Issue 17, defect 1: a thin, wide box or a huge one kept the cap on cells.
     #[test]

@@ -107,6 +107,53 @@ impl NozzlePath {
         NozzlePath { waypoints, roll, circle: None }
     }
 
+    /// Checks what stepping relies on: at least one waypoint, finite times in strictly
+    /// increasing order, finite positions within `max_coord` (m) of the origin on every axis,
+    /// finite non-zero axes, a finite roll and a finite circle of non-negative radius. The
+    /// error names the waypoint (0-based) and what is wrong.
+    pub fn check(&self, max_coord: f64) -> Result<(), String> {
+        if self.waypoints.is_empty() {
+            return Err("has no waypoint".into());
+        }
+        let mut previous = None;
+        for (k, w) in self.waypoints.iter().enumerate() {
+            if !w.time.is_finite() || previous.is_some_and(|t| w.time <= t) {
+                return Err(format!(
+                    "waypoint {k}: its time {} s must be finite and after the previous waypoint's",
+                    w.time
+                ));
+            }
+            previous = Some(w.time);
+            if !(w.position.is_finite() && w.position.abs().max_element() <= max_coord) {
+                return Err(format!(
+                    "waypoint {k}: its position {} m must be finite and within ±{max_coord} m",
+                    w.position
+                ));
+            }
+            if !(w.axis.is_finite() && (w.axis.length() - 1.0).abs() < 1e-6) {
+                return Err(format!(
+                    "waypoint {k}: its axis {} must be a finite, non-zero direction",
+                    w.axis
+                ));
+            }
+        }
+        if !self.roll.is_finite() {
+            return Err(format!("its roll {} rad must be finite", self.roll));
+        }
+        if let Some(c) = &self.circle {
+            let vectors = [c.first, c.second, c.axis].iter().all(|v| v.is_finite());
+            if !(vectors
+                && c.radius.is_finite()
+                && c.radius >= 0.0
+                && c.frequency.is_finite()
+                && c.start.is_finite())
+            {
+                return Err("its circle must have a finite, non-negative radius and finite terms".into());
+            }
+        }
+        Ok(())
+    }
+
     /// This path with `circle` superposed on its positions.
     pub fn with_circle(self, circle: Circle) -> Self {
         NozzlePath { circle: Some(circle), ..self }

@@ -25,7 +25,7 @@ mod update;
 mod watch;
 
 use crate::collision::Scene;
-use crate::config::{ConfigError, SimulationConfig};
+use crate::config::{ConfigError, MAX_COORD, SimulationConfig};
 use crate::emission::NozzlePath;
 use crate::events::{Both, EventHandler, FailureEvent, ImpactEvent, ImpactLog};
 use crate::motion::{Integrator, Lanes};
@@ -60,6 +60,30 @@ pub enum SetupError {
         /// Reason.
         message: String,
     },
+}
+
+/// Worker threads per core allowed at most: more only adds start-up time and switching (a
+/// pool of 10⁵ threads takes seconds to start before any step runs).
+pub const THREADS_PER_CORE: usize = 8;
+
+/// The most worker threads a simulation or a batch accepts on this machine:
+/// [`THREADS_PER_CORE`] times its cores, and at least 64, so that thread-count independence can
+/// be checked on small machines.
+pub fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    (THREADS_PER_CORE * cores).max(64)
+}
+
+/// Refuses a thread count above [`max_threads`] (0 stands for one per core, and passes).
+pub fn check_threads(threads: usize) -> Result<(), SetupError> {
+    let max = max_threads();
+    if threads > max {
+        let message = format!(
+            "at most {max} are allowed on this machine ({THREADS_PER_CORE} per core; 0 uses one per core)"
+        );
+        return Err(SetupError::Threads { threads, message });
+    }
+    Ok(())
 }
 
 /// Where the stages' parallel loops run (see [`Simulation::set_threads`]).
@@ -195,7 +219,9 @@ impl Simulation {
 
     /// Runs the update stage on at most `threads` threads (0: rayon's global pool, one thread
     /// per core; 1: the calling thread alone, without a pool). Results do not depend on it.
+    /// A count above [`max_threads`] is refused at once, before any thread starts.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), SetupError> {
+        check_threads(threads)?;
         self.workers = match threads {
             0 => Workers::Global,
             1 => Workers::Caller,
@@ -222,8 +248,12 @@ impl Simulation {
 
     /// Replaces the nozzle's path from the next step on (closed-loop control): the path is in
     /// absolute time, so a path built for the rest of a run starts at [`Simulation::time`].
-    pub fn set_nozzle_path(&mut self, path: NozzlePath) {
+    /// A path that [`NozzlePath::check`] refuses (a NaN position, a zero axis, a point beyond
+    /// [`MAX_COORD`] m) is refused, and the path is left as it was.
+    pub fn set_nozzle_path(&mut self, path: NozzlePath) -> Result<(), ConfigError> {
+        path.check(MAX_COORD).map_err(|message| ConfigError { field: "nozzle".into(), message })?;
         self.state.nozzle = path;
+        Ok(())
     }
 
     /// Simulated time, s.

@@ -3,9 +3,12 @@
 use super::{Simulation, State};
 use crate::checkpoint::{Dec, Enc, STATE_VERSION, StateError};
 use crate::collision::SurfaceId;
+use crate::config::{MAX_COORD, SimulationConfig};
+use crate::deposit::DepositSurface;
 use crate::emission::NozzlePath;
 use crate::events::{FailureEvent, ImpactEvent};
 use crate::particles::Swarm;
+use crate::particles::flags;
 use crate::tally::{Amount, Gauge};
 
 impl Simulation {
@@ -30,9 +33,7 @@ impl Simulation {
         let mut state = self.state.clone();
         load(&mut state, &mut d)?;
         d.finish()?;
-        if state.step > self.plan.total_steps.max(1) * 2 {
-            return Err(StateError::Mismatch(format!("step {} is far past the run's end", state.step)));
-        }
+        check(&state, &self.config, self.plan.total_steps).map_err(StateError::Invalid)?;
         self.state = state;
         Ok(())
     }
@@ -257,4 +258,289 @@ fn load_totals(s: &mut State, d: &mut Dec<'_>) -> Result<(), StateError> {
         _ => return Err(StateError::Mismatch("the impact log".into())),
     }
     Ok(())
+}
+
+/// Checks a state read from a checkpoint as a scenario is checked before a run, so that a
+/// state edited by hand (with a checksum made anew) cannot crash, hang or mislead a resumed
+/// run: every number finite, positions inside the domain, speeds below anything a run can
+/// reach, thicknesses and volumes not negative, counters within what the run can count.
+/// The error says what is wrong, and where.
+fn check(s: &State, config: &SimulationConfig, total_steps: u64) -> Result<(), String> {
+    if s.step > total_steps {
+        return Err(format!("step {} is past the run's end at step {total_steps}", s.step));
+    }
+    if !(s.spawn_carry.is_finite() && (0.0..1.0).contains(&s.spawn_carry)) {
+        return Err(format!(
+            "the emitter's carried fraction of a particle is {}, not in [0, 1)",
+            s.spawn_carry
+        ));
+    }
+    // Particle ids are 32-bit (the configuration bounds a run's particles by 4·10⁹).
+    if s.next_id > u64::from(u32::MAX) {
+        return Err(format!("the next particle id {} is beyond 32 bits", s.next_id));
+    }
+    check_swarm(s, config)?;
+    s.nozzle.check(MAX_COORD).map_err(|m| format!("the nozzle's path {m}"))?;
+    for (k, r) in s.scene.surfaces().iter().enumerate() {
+        if !(r.layer.is_finite() && r.layer >= 0.0) {
+            return Err(format!("surface {k}'s layer allowance is {} m", r.layer));
+        }
+    }
+    for t in &s.targets {
+        check_target(t)?;
+    }
+    check_totals(s)
+}
+
+/// An amount of material with a finite, non-negative volume; `what` names it in the error.
+fn check_amount(what: &str, a: Amount) -> Result<(), String> {
+    if a.volume.is_finite() && a.volume >= 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{what} has volume {}", a.volume))
+    }
+}
+
+/// A target of a checked state: see [`check`].
+fn check_target(t: &crate::world::Target) -> Result<(), String> {
+    let th = t.surface.thickness();
+    if let Some((c, x)) = th.iter().enumerate().find(|(_, x)| !(x.is_finite() && **x >= 0.0)) {
+        return Err(format!("target `{}` has thickness {x} m in cell {c}", t.name));
+    }
+    let max = th.iter().copied().fold(0.0, f64::max);
+    if !(t.surface.max_thickness().is_finite() && t.surface.max_thickness() >= max) {
+        return Err(format!("target `{}`'s thickness bound is below its thickest cell", t.name));
+    }
+    let amounts = [
+        ("stuck", t.stuck),
+        ("loose", t.loose),
+        ("trapped", t.trapped),
+        ("delivered", t.delivered),
+        ("stuck on the back", t.stuck_back),
+        ("received", t.received),
+        ("detached", t.detached),
+    ];
+    for (what, a) in amounts {
+        check_amount(&format!("target `{}`'s {what} material", t.name), a)?;
+    }
+    if let Some(e) = &t.erosion {
+        let worn = |x: &f64| x.is_finite() && *x >= 0.0;
+        let coat = |x: &f64| worn(x) && *x <= e.initial_coating;
+        if !(e.substrate.iter().all(worn) && e.coating.iter().all(coat)) {
+            return Err(format!(
+                "target `{}`'s wear or coating maps hold a negative, non-finite or too thick value",
+                t.name
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The obstacles, run totals, failures and impact log of a checked state: see [`check`].
+fn check_totals(s: &State) -> Result<(), String> {
+    for o in &s.obstacles {
+        check_amount("an obstacle's stuck material", o.stuck)?;
+        check_amount("an obstacle's received material", o.received)?;
+    }
+    let t = &s.tally;
+    for a in [
+        t.emitted,
+        t.left_domain,
+        t.expired,
+        t.released,
+        t.released_left,
+        t.released_expired,
+        t.dripped,
+        t.ran_off,
+    ] {
+        check_amount("a run total", a)?;
+    }
+    let finite_failure = |f: &FailureEvent| {
+        f.time.is_finite() && f.area.is_finite() && f.volume.is_finite() && f.volume >= 0.0
+    };
+    if !s.failures.iter().all(finite_failure) {
+        return Err("a cohesive failure has a non-finite time, area or volume".into());
+    }
+    if let Some(log) = &s.impact_log
+        && log
+            .entries
+            .iter()
+            .any(|i| !(i.time.is_finite() && i.position.is_finite() && i.velocity.is_finite()))
+    {
+        return Err("an entry of the impact log is not finite".into());
+    }
+    Ok(())
+}
+
+/// The particles of a checked state: see [`check`].
+fn check_swarm(s: &State, config: &SimulationConfig) -> Result<(), String> {
+    let sw = &s.swarm;
+    if s.retired > sw.len() {
+        return Err(format!("{} particles retired of {} slots", s.retired, sw.len()));
+    }
+    // Faster than any particle can fly: twice the fastest emission plus a fall through the
+    // whole domain, with the nozzle's own speed allowed for.
+    let height = config.domain.max.z - config.domain.min.z;
+    let fastest =
+        2.0 * (config.emitter.speed[1] + (2.0 * config.motion.gravity.length() * height).sqrt()) + 100.0;
+    // A sleeping particle's age runs ahead to its wake-up: allow for it, both ways.
+    let lifetime = 2.0 * config.material.max_lifetime + 1.0;
+    for i in 0..sw.len() {
+        let (x, v, age) = (sw.pos[i], sw.vel[i], f64::from(sw.age[i]));
+        let alive = sw.flags[i] & flags::ALIVE != 0;
+        if !(x.is_finite() && v.is_finite() && age.is_finite()) {
+            return Err(format!("particle {} has a non-finite position, velocity or age", sw.id[i]));
+        }
+        if alive && !config.domain.contains(x) {
+            return Err(format!("particle {} is at {x} m, outside the domain", sw.id[i]));
+        }
+        if alive && v.length() > fastest {
+            return Err(format!(
+                "particle {} flies at {:.4e} m/s, faster than this run can reach",
+                sw.id[i],
+                v.length()
+            ));
+        }
+        if age.abs() > lifetime {
+            return Err(format!(
+                "particle {} is {age} s old, beyond the lifetime of {} s",
+                sw.id[i], config.material.max_lifetime
+            ));
+        }
+        if u64::from(sw.id[i]) >= s.next_id {
+            return Err(format!("particle {} has an id not yet given out", sw.id[i]));
+        }
+        let volume = f64::from(sw.volumes.of(sw.id[i], sw.flags[i]));
+        if !(volume.is_finite() && volume >= 0.0) {
+            return Err(format!("particle {} carries volume {volume} m³", sw.id[i]));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// A run of the example wall part-way, with particles in flight and a layer.
+    fn running() -> Simulation {
+        let mut sim = Simulation::new(SimulationConfig::example_wall(0.2)).expect("valid");
+        for _ in 0..80 {
+            sim.step();
+        }
+        assert!(sim.swarm().alive() > 0 && sim.targets()[0].stuck.volume > 0.0);
+        sim
+    }
+
+    /// Restores the state of `edited` into a fresh simulation of the same configuration:
+    /// the error, and whether the fresh one stayed at its start.
+    fn restore(edited: &Simulation) -> StateError {
+        let mut fresh = Simulation::new(edited.config().clone()).expect("valid");
+        let err = fresh.restore_state(&edited.save_state()).expect_err("an impossible state is refused");
+        assert_eq!(fresh.steps_done(), 0, "a refused state changes nothing");
+        err
+    }
+
+    fn invalid(err: StateError, words: &str) {
+        match err {
+            StateError::Invalid(m) => assert!(m.contains(words), "{m}"),
+            other => panic!("refused for another reason: {other}"),
+        }
+    }
+
+    #[test]
+    fn a_state_saved_by_a_run_is_restored() {
+        let sim = running();
+        let mut fresh = Simulation::new(sim.config().clone()).expect("valid");
+        fresh.restore_state(&sim.save_state()).expect("restored");
+        assert_eq!(fresh.state_debug(), sim.state_debug());
+    }
+
+    #[test]
+    fn a_particle_with_a_nan_position_or_velocity_is_refused() {
+        let mut sim = running();
+        let i = (0..sim.state.swarm.len())
+            .find(|&i| sim.state.swarm.flags[i] & flags::ALIVE != 0)
+            .expect("alive");
+        sim.state.swarm.pos[i].y = f64::NAN;
+        invalid(restore(&sim), "non-finite");
+        let mut sim = running();
+        sim.state.swarm.vel[i] = DVec3::new(f64::INFINITY, 0.0, 0.0);
+        invalid(restore(&sim), "non-finite");
+    }
+
+    #[test]
+    fn a_particle_outside_the_domain_or_impossibly_fast_is_refused() {
+        let mut sim = running();
+        let i = (0..sim.state.swarm.len())
+            .find(|&i| sim.state.swarm.flags[i] & flags::ALIVE != 0)
+            .expect("alive");
+        sim.state.swarm.pos[i].x = 1e6;
+        invalid(restore(&sim), "outside the domain");
+        let mut sim = running();
+        sim.state.swarm.vel[i] = DVec3::new(0.0, 3e5, 0.0);
+        invalid(restore(&sim), "faster than this run can reach");
+    }
+
+    #[test]
+    fn an_absurd_carried_fraction_or_counter_is_refused() {
+        let mut sim = running();
+        sim.state.spawn_carry = 1e12;
+        invalid(restore(&sim), "carried fraction");
+        let mut sim = running();
+        sim.state.next_id = u64::MAX;
+        invalid(restore(&sim), "beyond 32 bits");
+        let mut sim = running();
+        sim.state.step = sim.plan.total_steps + 1;
+        invalid(restore(&sim), "past the run's end");
+        let mut sim = running();
+        sim.state.retired = sim.state.swarm.len() + 1;
+        invalid(restore(&sim), "retired");
+    }
+
+    #[test]
+    fn a_negative_thickness_or_volume_is_refused() {
+        let sim = running();
+        // The state as bytes, with one cell's thickness made negative: found by its value,
+        // which only that list holds.
+        let th = sim.targets()[0].surface.thickness();
+        let (cell, &value) = th
+            .iter()
+            .enumerate()
+            .filter(|(_, x)| **x > 0.0)
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .expect("a layer");
+        let mut bytes = sim.save_state();
+        let pattern = value.to_le_bytes();
+        let at = bytes.windows(8).position(|w| w == pattern).expect("the thickest cell's value");
+        bytes[at..at + 8].copy_from_slice(&(-value).to_le_bytes());
+        let mut fresh = Simulation::new(sim.config().clone()).expect("valid");
+        invalid(fresh.restore_state(&bytes).expect_err("refused"), &format!("in cell {cell}"));
+        let mut sim = running();
+        sim.state.tally.emitted.volume = -1.0;
+        invalid(restore(&sim), "volume -1");
+    }
+
+    #[test]
+    fn a_nozzle_path_with_a_nan_or_zero_axis_is_refused_and_kept_out_of_a_running_simulation() {
+        use crate::emission::{NozzlePath, Waypoint};
+        let mut sim = running();
+        let bad = NozzlePath::through(
+            vec![Waypoint {
+                time: 0.0,
+                position: DVec3::new(f64::NAN, 0.0, 1.0),
+                axis: DVec3::X,
+                spray: true,
+            }],
+            0.0,
+        );
+        let before = sim.nozzle().clone();
+        assert!(sim.set_nozzle_path(bad.clone()).is_err());
+        assert_eq!(sim.nozzle(), &before, "a refused path changes nothing");
+        let zero = NozzlePath::fixed(DVec3::new(-1.0, 0.0, 1.0), DVec3::ZERO, 0.0);
+        assert!(sim.set_nozzle_path(zero.clone()).is_err());
+        sim.state.nozzle = bad;
+        invalid(restore(&sim), "nozzle");
+    }
 }

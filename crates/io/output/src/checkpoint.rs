@@ -4,8 +4,12 @@
 //! the steps between checkpoints (u64), the resolved scenario (u64 length, UTF-8 TOML), the
 //! engine's state ([`spraysim_engine::checkpoint`]; u64 length, bytes), and the SHA-256 of
 //! everything before it. A checkpoint is written to a temporary file, flushed to disk and
-//! renamed over the previous one, so the file is always a whole checkpoint.
+//! renamed over the previous one, so the file is always a whole checkpoint. The checksum finds
+//! damage, not tampering: what the state holds is checked again when it is restored
+//! ([`spraysim_engine::Simulation::restore_state`]), and a checkpoint must belong to the run its
+//! directory records ([`check_belongs`]).
 
+use crate::directory::{OutputDir, RUN_RECORD, run_hash};
 use crate::{OutputError, io_err};
 use sha2::{Digest, Sha256};
 use std::io::Write;
@@ -100,48 +104,55 @@ impl<'a> Fields<'a> {
     }
 }
 
-/// Writes `checkpoint` into `dir` atomically (a temporary file flushed to disk, then renamed
-/// over the previous checkpoint); returns its path.
-pub fn write_checkpoint(dir: &Path, checkpoint: &Checkpoint) -> Result<PathBuf, OutputError> {
-    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
-    let path = dir.join(CHECKPOINT_FILE);
-    let temp = dir.join(format!(".{CHECKPOINT_FILE}.{}", std::process::id()));
-    let write = || -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&temp)?;
-        f.write_all(&checkpoint.to_bytes())?;
-        f.sync_all()
-    };
-    write().map_err(io_err(&temp))?;
-    std::fs::rename(&temp, &path).map_err(io_err(&path))?;
-    Ok(path)
+/// The prefix of a checkpoint being written, before it is renamed into place.
+pub(crate) const TEMPORARY_PREFIX: &str = ".spraysim-checkpoint-";
+
+/// Writes `checkpoint` into `dir` atomically: into a temporary file created exclusively under
+/// a random name, flushed to disk, then renamed over the previous checkpoint. Returns its path.
+pub fn write_checkpoint(dir: &OutputDir, checkpoint: &Checkpoint) -> Result<PathBuf, OutputError> {
+    let path = dir.path().join(CHECKPOINT_FILE);
+    let (mut file, temp) = dir.create_temporary(TEMPORARY_PREFIX, ".tmp")?;
+    let written = file.write_all(&checkpoint.to_bytes()).and_then(|()| file.sync_all());
+    let result =
+        written.map_err(io_err(&temp)).and_then(|()| std::fs::rename(&temp, &path).map_err(io_err(&path)));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temp);
+    }
+    result.map(|()| path)
 }
 
-/// Reads the checkpoint in `dir`.
+/// Reads the checkpoint in `dir`: a regular file within the checkpoint size limit
+/// ([`spraysim_scenario::read_input`]), whole and of this version.
 pub fn read_checkpoint(dir: &Path) -> Result<Checkpoint, OutputError> {
     let path = dir.join(CHECKPOINT_FILE);
-    let bytes = std::fs::read(&path).map_err(io_err(&path))?;
+    let bytes = spraysim_scenario::read_input(&path, spraysim_scenario::InputKind::Checkpoint)
+        .map_err(|e| OutputError::Io { path: path.clone(), source: e.problem.into_io_error() })?;
     Checkpoint::from_bytes(&bytes, &path)
 }
 
-/// Removes the checkpoint in `dir` (a run that completed needs none), and temporary
-/// checkpoint files that killed runs left.
-pub fn remove_checkpoint(dir: &Path) {
-    let _ = std::fs::remove_file(dir.join(CHECKPOINT_FILE));
-    clean_temporary(dir);
+/// Checks that `checkpoint`, read from `dir`, belongs to the run the directory records (see
+/// [`OutputDir::record_run`]): a checkpoint copied in from another run's directory is refused,
+/// naming both. Returns a warning when the directory has no record to compare with.
+pub fn check_belongs(dir: &OutputDir, checkpoint: &Checkpoint) -> Result<Option<String>, OutputError> {
+    let path = dir.path().join(CHECKPOINT_FILE);
+    match dir.recorded_run() {
+        Some(recorded) if recorded == run_hash(&checkpoint.scenario) => Ok(None),
+        Some(_) => Err(invalid(
+            &path,
+            &format!(
+                "belongs to another run than the one this directory holds (its scenario differs from the \
+                 one recorded in {RUN_RECORD}): resume it in the directory it was written in, or start \
+                 this run afresh with `spraysim run`"
+            ),
+        )),
+        None => Ok(Some(format!(
+            "{} has no record of the run it holds ({RUN_RECORD}): resuming the checkpoint's own scenario",
+            dir.path().display()
+        ))),
+    }
 }
 
-/// Removes temporary checkpoint files in `dir` that a killed run left behind.
-pub fn clean_temporary(dir: &Path) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let prefix = format!(".{CHECKPOINT_FILE}.");
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().to_string();
-        if name
-            .strip_prefix(&prefix)
-            .and_then(|p| p.parse::<u32>().ok())
-            .is_some_and(|p| p != std::process::id())
-        {
-            let _ = std::fs::remove_file(e.path());
-        }
-    }
+/// Removes the checkpoint in `dir` (a run that completed needs none).
+pub fn remove_checkpoint(dir: &OutputDir) {
+    let _ = std::fs::remove_file(dir.path().join(CHECKPOINT_FILE));
 }

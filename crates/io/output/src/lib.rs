@@ -2,16 +2,17 @@
 //!
 //! Writing a run's results: `metrics.json`, per-target arrays (`.npy`), heatmaps (`.png`) and
 //! 3D files of the deposits (PLY, glTF, VTK), the impact log and the resolved scenario, and
-//! checkpoints to resume a run. An output directory always holds one run's complete set while
-//! its `metrics.json` is there (see [`write_all`]).
+//! checkpoints to resume a run. An output directory holds one run's complete set, is written
+//! by one writer at a time, and spraysim never touches a file there that it did not write (see
+//! [`directory`]).
 
 pub mod checkpoint;
 pub mod control;
+pub mod directory;
 pub mod export;
-mod files;
 pub mod heatmap;
 
-pub use files::{FILE_LIST, STAGING_PREFIX, write_all};
+pub use directory::{FILE_LIST, OutputDir, STAGING_PREFIX};
 
 use ndarray::{ArrayViewD, IxDyn};
 use spraysim_engine::Simulation;
@@ -31,6 +32,17 @@ pub enum OutputError {
         /// Underlying error.
         #[source]
         source: std::io::Error,
+    },
+    /// Another writer holds the output directory's lock.
+    #[error(
+        "{path} is in use by another spraysim writer ({holder}): wait for it to finish, or write into \
+         another directory"
+    )]
+    Busy {
+        /// The directory.
+        path: PathBuf,
+        /// Who holds it: process id, for how long, command line.
+        holder: String,
     },
     /// An array could not be encoded.
     #[error("{path}: cannot write the array: {message}")]
@@ -54,36 +66,30 @@ pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError 
     move |source| OutputError::Io { path: path.to_path_buf(), source }
 }
 
-/// Checks that `dir` exists or can be created, and that files can be written in it, leaving
-/// nothing behind that was not there before.
-pub fn check_writable(dir: &Path) -> Result<(), OutputError> {
-    let created = !dir.exists();
-    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
-    let probe = dir.join(format!(".spraysim-probe-{}", std::process::id()));
-    let result = std::fs::write(&probe, b"").map_err(io_err(dir));
-    let _ = std::fs::remove_file(&probe);
-    if created {
-        // Leave no trace of a check: the run will create the directory again.
-        let _ = std::fs::remove_dir(dir);
-    }
-    result
+/// Writes `files` (name, contents) into `dir` as one set (see [`OutputDir::write_set`]),
+/// holding the directory's lock for the write; returns the paths written.
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
+    OutputDir::lock(dir)?.write_set(files)
 }
 
-/// Writes every output of `sim`, a run of `scenario`, into `dir` (created if needed); returns
-/// the files written.
+/// Writes every output of `sim`, a run of `scenario`, into `dir` (created if needed), holding
+/// the directory's lock for the write; returns the files written.
 pub fn write_outputs(sim: &Simulation, scenario: &Scenario, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    write_outputs_with(sim, scenario, dir, Vec::new())
+    write_outputs_with(sim, scenario, &OutputDir::lock(dir)?, Vec::new())
 }
 
-/// [`write_outputs`] with `extra` files (name, contents) of the same run, such as its 3D views:
-/// written in the same set and listed in the same manifest.
+/// [`write_outputs`] into a directory the caller has locked, with `extra` files (name,
+/// contents) of the same run, such as its 3D views: written in the same set and listed in the
+/// same manifest. The directory then records this run (see [`OutputDir::record_run`]).
 pub fn write_outputs_with(
     sim: &Simulation,
     scenario: &Scenario,
-    dir: &Path,
+    dir: &OutputDir,
     extra: Vec<(String, Vec<u8>)>,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    write_all(dir, &outputs_with(sim, scenario, extra)?)
+    let written = dir.write_set(&outputs_with(sim, scenario, extra)?)?;
+    dir.record_run(&scenario.to_toml())?;
+    Ok(written)
 }
 
 /// What `metrics.json` holds: the engine's metrics, whether the run reached its duration

@@ -9,6 +9,9 @@
 //! wall.toml:2: `simulation.dt` must be greater than 0 s, got -0.001
 //! ```
 //!
+//! Every file a user names (scenarios, meshes, tool paths, and the checkpoints and profiles of
+//! other crates) is read through [`read_input`]: regular files only, each kind within a cap.
+//!
 //! ```
 //! use spraysim_scenario::Scenario;
 //!
@@ -22,6 +25,7 @@
 mod budget;
 mod build;
 mod error;
+mod input;
 mod mesh;
 mod overrides;
 mod params;
@@ -32,6 +36,7 @@ mod tool_path;
 
 pub use budget::{Budget, MemoryPart, bytes_text, default_memory_limit, machine_memory};
 pub use error::ScenarioError;
+pub use input::{InputError, InputKind, InputProblem, read_input};
 pub use mesh::{MAX_TRIANGLES, MeshError};
 pub use overrides::Value;
 pub use params::*;

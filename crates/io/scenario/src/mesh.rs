@@ -1,6 +1,7 @@
 //! Triangle meshes from STL (binary or ASCII) and Wavefront OBJ files.
 
-use crate::reader::MAX_COORD;
+use crate::input::{InputKind, read_input};
+use crate::reader::{MAX_COORD, Num};
 use glam::{DMat3, DVec3};
 use spraysim_engine::collision::Triangle;
 use std::path::Path;
@@ -20,7 +21,9 @@ pub const MAX_TRIANGLES: usize = 10_000_000;
 
 /// Reads the triangles of an `.stl` or `.obj` file, each corner `c` mapped to
 /// `R · (c · scale) + translate` (m), `R` the rotation by `rotate` (degrees about x, then y,
-/// then z). Degenerate triangles are dropped.
+/// then z). Degenerate triangles are dropped. The file must be a regular file of at most
+/// [`InputKind::Mesh`]'s cap (see [`read_input`]); an OBJ file's materials (`mtllib`) are not
+/// read, so no other file is opened.
 pub fn load(
     path: &Path,
     scale: f64,
@@ -29,9 +32,12 @@ pub fn load(
 ) -> Result<Vec<Triangle>, MeshError> {
     let err = |message: String| MeshError { path: path.display().to_string(), message };
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("stl" | "obj")) {
+        return Err(err("unknown mesh format: use .stl or .obj".into()));
+    }
+    let bytes = read_input(path, InputKind::Mesh).map_err(|e| err(e.problem.to_string()))?;
     let corners: Vec<[DVec3; 3]> = match ext.as_deref() {
         Some("stl") => {
-            let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
             check_stl_size(&bytes).map_err(err)?;
             let mesh = stl_io::read_stl(&mut std::io::Cursor::new(&bytes))
                 .map_err(|e| err(format!("not a valid STL file: {e}")))?;
@@ -45,8 +51,10 @@ pub fn load(
         }
         Some("obj") => {
             let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-            let (models, _) =
-                tobj::load_obj(path, &options).map_err(|e| err(format!("not a valid OBJ file: {e}")))?;
+            // Materials are not used: refusing each `mtllib` keeps tobj from opening other files.
+            let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+            let (models, _) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, no_materials)
+                .map_err(|e| err(format!("not a valid OBJ file: {e}")))?;
             let mut out = Vec::new();
             for m in models {
                 let p = &m.mesh.positions;
@@ -66,6 +74,7 @@ pub fn load(
         }
         _ => return Err(err("unknown mesh format: use .stl or .obj".into())),
     };
+    drop(bytes);
     if corners.len() > MAX_TRIANGLES {
         return Err(err(format!("has {} triangles, more than {MAX_TRIANGLES}", corners.len())));
     }
@@ -83,8 +92,12 @@ pub fn load(
         // Every coordinate a scenario gives is bounded; a mesh's, once placed, is too.
         if let Some(p) = placed.iter().find(|p| !(p.is_finite() && p.abs().max_element() <= MAX_COORD)) {
             return Err(err(format!(
-                "triangle {} has a corner at {p} m once scaled, rotated and translated: every coordinate must lie within ±{MAX_COORD} m",
-                i + 1
+                "triangle {} has a corner at [{}, {}, {}] m once scaled, rotated and translated: every coordinate must lie within ±{} m",
+                i + 1,
+                Num(p.x),
+                Num(p.y),
+                Num(p.z),
+                Num(MAX_COORD)
             )));
         }
         triangles.extend(Triangle::new(placed[0], placed[1], placed[2]));

@@ -3,7 +3,9 @@
 //! file had given it.
 
 use crate::error::ScenarioError;
-use toml_edit::{DocumentMut, Item, TableLike};
+use std::borrow::Cow;
+use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 /// A value to set: a number, a boolean, a string, a list of numbers, or TOML text.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,82 +94,172 @@ impl<const N: usize> From<[f64; N]> for Value {
 }
 
 /// Splits `KEY=VALUE`: the value is TOML when it parses as a TOML value, else a bare string.
+/// The key is split at the first `=` outside quotes, so a quoted key may hold one.
 pub(crate) fn split(assignment: &str) -> Result<(String, Value), ScenarioError> {
-    let Some((key, value)) = assignment.split_once('=') else {
+    let Some((key, value)) =
+        find_outside_quotes(assignment, '=').map(|i| (&assignment[..i], &assignment[i + 1..]))
+    else {
+        let quote =
+            if split_outside_quotes(assignment, '=').is_none() { "; a quote is not closed" } else { "" };
         return Err(ScenarioError::Syntax {
             location: format!("--set {assignment}"),
-            message: "must be KEY=VALUE, e.g. simulation.seed=3".into(),
+            message: format!("must be KEY=VALUE, e.g. simulation.seed=3{quote}"),
         });
     };
     let (key, value) = (key.trim(), value.trim());
-    let value = match value.parse::<toml_edit::Value>() {
+    let value = match DeValue::parse(value) {
         Ok(_) => Value::Toml(value.to_string()),
         Err(_) => Value::Text(value.to_string()),
     };
     Ok((key.to_string(), value))
 }
 
-/// `text` (named `origin` in errors) with `overrides` (dotted key, TOML value) applied in order.
-pub(crate) fn apply(
-    text: &str,
-    origin: &str,
-    overrides: &[(String, String)],
-) -> Result<String, ScenarioError> {
-    if overrides.is_empty() {
-        return Ok(text.to_string());
+/// Where spans of what overrides set start: the span of a key or table an override set or
+/// made is `OVERRIDE + i` (its index), far past the end of any text, so that an error in it is
+/// put on the override rather than on a line of the file.
+pub(crate) const OVERRIDE: usize = usize::MAX / 2;
+
+/// The index of the override that set a key or value with `span`, if one did.
+pub(crate) fn override_of(span: &std::ops::Range<usize>) -> Option<usize> {
+    span.start.checked_sub(OVERRIDE)
+}
+
+/// One step of an override's key: a key of a table, and the entry of the array of tables
+/// under it when the step is indexed (`target[1]`).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Step {
+    /// The key, unquoted.
+    pub name: String,
+    /// The 0-based entry of the array of tables, if indexed.
+    pub index: Option<usize>,
+}
+
+/// Parses an override's key: TOML's dotted-key syntax (bare or quoted parts:
+/// `nozzle.raster.speed`, `simulation."dt"`, `"a.b"`), each part optionally indexed (`[1]`) to
+/// go into an entry of an array of tables.
+pub(crate) fn parse_key(key: &str) -> Result<Vec<Step>, String> {
+    let parts = split_outside_quotes(key, '.').ok_or("is not a key: a quote is not closed")?;
+    parts.into_iter().map(|part| step(part.trim())).collect()
+}
+
+/// One part of an override's key: a TOML key, optionally followed by `[i]`.
+fn step(part: &str) -> Result<Step, String> {
+    let (name, index) = match part.strip_suffix(']').and_then(|p| p.rsplit_once('[')) {
+        // The `[` is outside the name's quotes when the name's quotes are all closed.
+        Some((name, i)) if split_outside_quotes(name, '[').is_some_and(|p| p.len() == 1) => {
+            let i = i.trim().parse::<usize>().map_err(|_| format!("has a bad index in {part:?}"))?;
+            (name.trim(), Some(i))
+        }
+        _ => (part, None),
+    };
+    if name.is_empty() {
+        return Err("is not a key: a part of it is empty".into());
     }
-    let mut doc = text.parse::<DocumentMut>().map_err(|e| ScenarioError::Syntax {
-        location: origin.to_string(),
-        message: e.message().trim().to_string(),
-    })?;
-    for (key, value) in overrides {
+    match toml_edit::Key::parse(name) {
+        Ok(keys) if keys.len() == 1 => Ok(Step { name: keys[0].get().to_string(), index }),
+        _ => Err(format!("is not a key: {name} is neither a bare nor a quoted TOML key")),
+    }
+}
+
+/// Where a scan of TOML text is: outside quotes, or inside `"…"` (with `\` escapes) or `'…'`.
+#[derive(Default)]
+struct Quotes {
+    open: Option<char>,
+    escaped: bool,
+}
+
+impl Quotes {
+    /// Takes the next character; true if it is outside quotes (and not a quote itself).
+    fn outside(&mut self, c: char) -> bool {
+        match self.open {
+            Some('"') if self.escaped => self.escaped = false,
+            Some('"') if c == '\\' => self.escaped = true,
+            Some(q) if c == q => self.open = None,
+            Some(_) => {}
+            None if c == '"' || c == '\'' => self.open = Some(c),
+            None => return true,
+        }
+        false
+    }
+}
+
+/// Byte offset of the first `sep` outside TOML quotes in `text`.
+fn find_outside_quotes(text: &str, sep: char) -> Option<usize> {
+    let mut quotes = Quotes::default();
+    text.char_indices().find(|&(_, c)| quotes.outside(c) && c == sep).map(|(i, _)| i)
+}
+
+/// The pieces of `text` between the `sep`s outside TOML quotes; `None` when a quote is not
+/// closed.
+fn split_outside_quotes(text: &str, sep: char) -> Option<Vec<&str>> {
+    let mut pieces = Vec::new();
+    let mut start = 0;
+    let mut quotes = Quotes::default();
+    for (i, c) in text.char_indices() {
+        if quotes.outside(c) && c == sep {
+            pieces.push(&text[start..i]);
+            start = i + c.len_utf8();
+        }
+    }
+    if quotes.open.is_some() {
+        return None;
+    }
+    pieces.push(&text[start..]);
+    Some(pieces)
+}
+
+/// Applies `overrides` (dotted key, TOML value) to `doc` in order; what each sets or makes is
+/// marked with the override's span ([`OVERRIDE`]). A refusal names the override.
+pub(crate) fn apply<'i>(
+    doc: &mut DeTable<'i>,
+    overrides: &'i [(String, String)],
+) -> Result<(), ScenarioError> {
+    for (n, (key, value)) in overrides.iter().enumerate() {
         let refuse = |message: String| ScenarioError::Invalid {
             location: format!("--set {key}={value}"),
             key: key.clone(),
             message,
         };
-        let value =
-            value.parse::<toml_edit::Value>().map_err(|e| refuse(format!("is not a TOML value: {e}")))?;
-        set(doc.as_table_mut(), key, value).map_err(refuse)?;
+        let steps = parse_key(key).map_err(refuse)?;
+        let value = DeValue::parse(value)
+            .map_err(|e| refuse(format!("is not a TOML value: {}", e.message().trim())))?
+            .into_inner();
+        set(doc, &steps, value, OVERRIDE + n).map_err(refuse)?;
     }
-    Ok(doc.to_string())
+    Ok(())
 }
 
-/// Sets the dotted `key` of `table` to `value`, creating the tables on the way.
-fn set(table: &mut dyn TableLike, key: &str, value: toml_edit::Value) -> Result<(), String> {
-    let (head, rest) = match key.split_once('.') {
-        Some((h, r)) => (h, Some(r)),
-        None => (key, None),
-    };
-    let (name, index) = match head.split_once('[') {
-        Some((n, i)) => {
-            let i = i.strip_suffix(']').and_then(|i| i.parse::<usize>().ok());
-            (n, Some(i.ok_or_else(|| format!("has a bad index in {head:?}"))?))
-        }
-        None => (head, None),
-    };
-    if name.is_empty() {
-        return Err("is not a key: a part of it is empty".into());
-    }
-    let Some(rest) = rest else {
+/// Sets the key `steps` of `table` to `value`, making the tables on the way; what it sets or
+/// makes gets the span `at..at`.
+fn set<'i>(table: &mut DeTable<'i>, steps: &[Step], value: DeValue<'i>, at: usize) -> Result<(), String> {
+    let Some((step, rest)) = steps.split_first() else { return Err("is not a key: it is empty".into()) };
+    let Step { name, index } = step;
+    let key = || Spanned::new(at..at, Cow::Owned(name.clone()));
+    if rest.is_empty() {
         if index.is_some() {
             return Err("must end with a key, not an index".into());
         }
-        table.insert(name, Item::Value(value));
+        // Removed first, so that the key too is the override's, not the file's.
+        table.remove(name.as_str());
+        table.insert(key(), Spanned::new(at..at, value));
         return Ok(());
-    };
-    let item = table.entry(name).or_insert_with(|| Item::Table(toml_edit::Table::new()));
-    let inner: &mut dyn TableLike = match index {
-        Some(i) => {
-            let Some(array) = item.as_array_of_tables_mut() else {
-                return Err(format!("indexes `{name}`, which is not a list of tables"));
-            };
+    }
+    if !table.contains_key(name.as_str()) {
+        table.insert(key(), Spanned::new(at..at, DeValue::Table(DeTable::new())));
+    }
+    let item = table.get_mut(name.as_str()).map(Spanned::get_mut);
+    let inner = match (index, item) {
+        (Some(i), Some(DeValue::Array(array))) => {
             let len = array.len();
-            array.get_mut(i).ok_or_else(|| format!("indexes entry {i} of `{name}`, which has {len}"))?
+            match array.get_mut(*i).map(Spanned::get_mut) {
+                Some(DeValue::Table(t)) => t,
+                Some(_) => return Err(format!("indexes `{name}`, which is not a list of tables")),
+                None => return Err(format!("indexes entry {i} of `{name}`, which has {len}")),
+            }
         }
-        None => {
-            item.as_table_like_mut().ok_or_else(|| format!("goes into `{name}`, which is not a table"))?
-        }
+        (Some(_), _) => return Err(format!("indexes `{name}`, which is not a list of tables")),
+        (None, Some(DeValue::Table(t))) => t,
+        (None, _) => return Err(format!("goes into `{name}`, which is not a table")),
     };
-    set(inner, rest, value)
+    set(inner, rest, value, at)
 }

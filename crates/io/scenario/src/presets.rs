@@ -382,7 +382,7 @@ impl Preset {
     /// This preset's `[process]` as a scenario with no `[process]` keys but the preset's name
     /// resolves it.
     pub fn resolved_process(self) -> crate::params::ProcessParams {
-        let table = toml::Table::from_iter([("preset".to_string(), toml::Value::String(self.name().into()))]);
+        let table = crate::reader::table_of("preset", self.name());
         crate::params::read::process(&crate::reader::Section::root(&table), Preset::defaults)
             .unwrap_or_else(|e| panic!("the {} preset is invalid: {e}", self.name()))
     }

@@ -2,8 +2,15 @@
 //! section comes out either whole and valid or as an error that names its key; keys nobody
 //! read are refused at the end.
 
+use std::borrow::Cow;
 use std::cell::RefCell;
-use toml::{Table, Value};
+use toml::Spanned;
+use toml::de::{DeInteger, DeTable, DeValue};
+
+/// A parsed TOML table: every key and value with its byte span in the text it came from.
+pub(crate) type Table<'a> = DeTable<'a>;
+/// A parsed TOML value.
+pub(crate) type Value<'a> = DeValue<'a>;
 
 /// A value a scenario may not have: the dotted key (0-based indices) and what is wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -23,8 +30,9 @@ pub(crate) fn bad<T>(key: &str, message: impl Into<String>) -> Read<T> {
     Err(Invalid { key: key.to_string(), message: message.into() })
 }
 
-/// Largest coordinate magnitude accepted anywhere, m: beyond any construction site.
-pub const MAX_COORD: f64 = 1e4;
+/// Largest coordinate magnitude accepted anywhere, m: beyond any construction site (the
+/// engine's own bound, which it checks again on the nozzle's path and on checkpoints).
+pub use spraysim_engine::config::MAX_COORD;
 
 /// How a number is checked.
 #[derive(Clone, Copy, Debug)]
@@ -49,16 +57,84 @@ pub(crate) trait Choice: Sized + Copy + 'static {
     }
 }
 
-/// The kind of a TOML value, for messages.
-fn kind(v: &Value) -> String {
+/// The kind of a TOML value, for messages; a long string is cut short.
+fn kind(v: &Value<'_>) -> String {
     match v {
+        Value::String(s) if s.chars().count() > 60 => {
+            format!(
+                "the string {:?}… ({} characters)",
+                s.chars().take(40).collect::<String>(),
+                s.chars().count()
+            )
+        }
         Value::String(s) => format!("the string {s:?}"),
         Value::Integer(i) => format!("the integer {i}"),
-        Value::Float(f) => format!("the number {f}"),
+        Value::Float(f) => match float(f) {
+            Ok(x) => format!("the number {}", Num(x)),
+            Err(_) => format!("the number {f}"),
+        },
         Value::Boolean(b) => format!("the boolean {b}"),
         Value::Datetime(d) => format!("the date {d}"),
         Value::Array(a) => format!("an array of {} values", a.len()),
         Value::Table(_) => "a table".into(),
+    }
+}
+
+/// A number as messages print it: as written for everyday magnitudes (`0.001`, `2500`), in
+/// scientific notation beyond them (`1e308`, `2.5e-9`), always with the fewest digits that
+/// give it back exactly.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+/// The most a TOML integer may be: integers are 64-bit, signed.
+const INTEGER_RANGE: &str = "TOML integers are 64-bit, from -9223372036854775808 to 9223372036854775807";
+
+/// An integer's value; `None` beyond 64 bits.
+fn whole(i: &DeInteger<'_>) -> Option<i64> {
+    i64::from_str_radix(i.as_str(), i.radix()).ok()
+}
+
+/// A float's value, or why it has none (too large for 64 bits).
+fn float(f: &toml::de::DeFloat<'_>) -> Result<f64, String> {
+    match f.as_str().parse::<f64>() {
+        Ok(x) if x.is_infinite() && !f.as_str().contains("inf") => {
+            Err(format!("{f}, beyond the largest 64-bit float (about 1.8e308)"))
+        }
+        Ok(x) => Ok(x),
+        Err(_) => Err(format!("{f}, not a number")),
+    }
+}
+
+/// A number (an integer or a float) as f64; `None` for other kinds; an error for a number
+/// beyond 64 bits, saying so.
+fn as_number(v: &Value<'_>) -> Option<Result<f64, String>> {
+    match v {
+        Value::Float(f) => Some(float(f)),
+        Value::Integer(i) => {
+            Some(whole(i).map(|x| x as f64).ok_or_else(|| format!("the integer {i}: {INTEGER_RANGE}")))
+        }
+        _ => None,
+    }
+}
+
+/// A key as a dotted path prints it: bare when it can be, quoted otherwise (`"a.b"`).
+pub(crate) fn key_text(k: &str) -> Cow<'_, str> {
+    let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    if !k.is_empty() && k.chars().all(bare) {
+        Cow::Borrowed(k)
+    } else {
+        Cow::Owned(toml_edit::Key::new(k).display_repr().into_owned())
     }
 }
 
@@ -74,19 +150,26 @@ pub(crate) enum NumberOrWord {
 /// One table of a scenario, being read.
 pub(crate) struct Section<'a> {
     path: String,
-    table: &'a Table,
+    table: &'a Table<'a>,
     used: RefCell<Vec<&'a str>>,
+}
+
+/// A table of one string, for reading a section built in code (e.g. a preset's name alone).
+pub(crate) fn table_of(key: &'static str, value: &'static str) -> Table<'static> {
+    let mut t = Table::new();
+    t.insert(Spanned::new(0..0, Cow::Borrowed(key)), Spanned::new(0..0, Value::String(Cow::Borrowed(value))));
+    t
 }
 
 impl<'a> Section<'a> {
     /// The document's top level.
-    pub fn root(table: &'a Table) -> Self {
+    pub fn root(table: &'a Table<'a>) -> Self {
         Section { path: String::new(), table, used: RefCell::new(Vec::new()) }
     }
 
     /// An empty section at `path` (a table the file leaves out).
     pub fn empty<'b>(path: &str) -> Section<'b> {
-        static EMPTY: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+        static EMPTY: std::sync::OnceLock<Table<'static>> = std::sync::OnceLock::new();
         Section {
             path: path.to_string(),
             table: EMPTY.get_or_init(Table::new),
@@ -94,9 +177,10 @@ impl<'a> Section<'a> {
         }
     }
 
-    /// The dotted key of `k` in this section.
+    /// The dotted key of `k` in this section (`k` quoted if it is not a bare key).
     pub fn key(&self, k: &str) -> String {
-        if self.path.is_empty() { k.to_string() } else { format!("{}.{k}", self.path) }
+        let k = key_text(k);
+        if self.path.is_empty() { k.into_owned() } else { format!("{}.{k}", self.path) }
     }
 
     /// True if the file gives `k` here.
@@ -104,10 +188,10 @@ impl<'a> Section<'a> {
         self.table.contains_key(k)
     }
 
-    fn raw(&self, k: &str) -> Option<&'a Value> {
+    fn raw(&self, k: &str) -> Option<&'a Value<'a>> {
         let (key, value) = self.table.get_key_value(k)?;
-        self.used.borrow_mut().push(key.as_str());
-        Some(value)
+        self.used.borrow_mut().push(key.get_ref().as_ref());
+        Some(value.get_ref())
     }
 
     /// A number (integers are accepted), or `default` when absent; checked finite and in range.
@@ -115,9 +199,11 @@ impl<'a> Section<'a> {
         let key = self.key(k);
         let x = match self.raw(k) {
             None => default.map_or_else(|| bad(&key, "is required"), Ok)?,
-            Some(Value::Float(f)) => *f,
-            Some(Value::Integer(i)) => *i as f64,
-            Some(v) => return bad(&key, format!("must be a number ({unit}), got {}", kind(v))),
+            Some(v) => match as_number(v) {
+                Some(Ok(x)) => x,
+                Some(Err(why)) => return bad(&key, format!("must be a number ({unit}), got {why}")),
+                None => return bad(&key, format!("must be a number ({unit}), got {}", kind(v))),
+            },
         };
         number_in(&key, x, check, unit)?;
         Ok(x)
@@ -141,11 +227,11 @@ impl<'a> Section<'a> {
             return bad(&key, format!("{}, got {} values", what(), items.len()));
         }
         let mut out = [0.0; N];
-        for (o, item) in out.iter_mut().zip(items) {
-            *o = match item {
-                Value::Float(f) => *f,
-                Value::Integer(i) => *i as f64,
-                other => return bad(&key, format!("{}, got {} in it", what(), kind(other))),
+        for (o, item) in out.iter_mut().zip(items.iter()) {
+            *o = match as_number(item.get_ref()) {
+                Some(Ok(x)) => x,
+                Some(Err(why)) => return bad(&key, format!("{}, got {why} in it", what())),
+                None => return bad(&key, format!("{}, got {} in it", what(), kind(item.get_ref()))),
             };
             number_in(&key, *o, check, unit)?;
         }
@@ -167,11 +253,14 @@ impl<'a> Section<'a> {
         items
             .iter()
             .map(|item| {
-                let x = match item {
-                    Value::Float(f) => *f,
-                    Value::Integer(i) => *i as f64,
-                    other => {
-                        return bad(&key, format!("must be an array of numbers, got {} in it", kind(other)));
+                let x = match as_number(item.get_ref()) {
+                    Some(Ok(x)) => x,
+                    Some(Err(why)) => {
+                        return bad(&key, format!("must be an array of numbers, got {why} in it"));
+                    }
+                    None => {
+                        let other = kind(item.get_ref());
+                        return bad(&key, format!("must be an array of numbers, got {other} in it"));
                     }
                 };
                 number_in(&key, x, check, "")?;
@@ -194,15 +283,11 @@ impl<'a> Section<'a> {
         items
             .iter()
             .map(|item| {
-                let Value::Array(pair) = item else {
-                    return bad(&key, format!("{what}, got {} in it", kind(item)));
+                let Value::Array(pair) = item.get_ref() else {
+                    return bad(&key, format!("{what}, got {} in it", kind(item.get_ref())));
                 };
-                let num = |v: &Value| match v {
-                    Value::Float(f) => Some(*f),
-                    Value::Integer(i) => Some(*i as f64),
-                    _ => None,
-                };
-                match pair.as_slice() {
+                let num = |v: &Spanned<Value<'_>>| as_number(v.get_ref()).and_then(Result::ok);
+                match &pair[..] {
                     [a, b] => match (num(a), num(b)) {
                         (Some(a), Some(b)) if a.is_finite() && b.is_finite() => Ok([a, b]),
                         _ => bad(&key, format!("{what}: every value a finite number")),
@@ -232,7 +317,15 @@ impl<'a> Section<'a> {
         let key = self.key(k);
         let x = match self.raw(k) {
             None => default.map_or_else(|| bad(&key, "is required"), Ok)?,
-            Some(Value::Integer(i)) => *i,
+            Some(Value::Integer(i)) => match whole(i) {
+                Some(x) => x,
+                None => {
+                    return bad(
+                        &key,
+                        format!("must be a whole number between {lo} and {hi}, got {i}: {INTEGER_RANGE}"),
+                    );
+                }
+            },
             Some(v) => return bad(&key, format!("must be a whole number, got {}", kind(v))),
         };
         if !(lo..=hi).contains(&x) {
@@ -255,7 +348,7 @@ impl<'a> Section<'a> {
         let key = self.key(k);
         match self.raw(k) {
             None => default.map(str::to_string).map_or_else(|| bad(&key, "is required"), Ok),
-            Some(Value::String(s)) => Ok(s.clone()),
+            Some(Value::String(s)) => Ok(s.to_string()),
             Some(v) => bad(&key, format!("must be a string, got {}", kind(v))),
         }
     }
@@ -268,7 +361,7 @@ impl<'a> Section<'a> {
             None => default.map_or_else(|| bad(&key, format!("is required: one of {}", names())), Ok),
             Some(Value::String(s)) => E::NAMES
                 .iter()
-                .find(|(n, _)| n == s)
+                .find(|(n, _)| *n == s.as_ref())
                 .map(|(_, v)| *v)
                 .map_or_else(|| bad(&key, format!("must be one of {}, got {s:?}", names())), Ok),
             Some(v) => bad(&key, format!("must be one of {}, got {}", names(), kind(v))),
@@ -286,8 +379,8 @@ impl<'a> Section<'a> {
         };
         let mut out = Vec::new();
         for (i, item) in items.iter().enumerate() {
-            let found = match item {
-                Value::String(s) => E::NAMES.iter().find(|(n, _)| n == s).map(|(_, v)| *v),
+            let found = match item.get_ref() {
+                Value::String(s) => E::NAMES.iter().find(|(n, _)| *n == s.as_ref()).map(|(_, v)| *v),
                 _ => None,
             };
             match found {
@@ -302,7 +395,7 @@ impl<'a> Section<'a> {
     /// True if the file gives `k` here as a table (the other forms of a key that takes either
     /// a switch or a table are read with [`Section::boolean`]).
     pub fn is_table(&self, k: &str) -> bool {
-        matches!(self.table.get(k), Some(Value::Table(_)))
+        matches!(self.table.get(k).map(Spanned::get_ref), Some(Value::Table(_)))
     }
 
     /// A list of `1..=max` items, each a number or one of `words`; `None` when absent.
@@ -320,16 +413,16 @@ impl<'a> Section<'a> {
         if items.is_empty() || items.len() > max {
             return bad(&key, format!("must have between 1 and {max} items, got {}", items.len()));
         }
-        let item = |v: &Value| match v {
-            Value::Float(f) => {
-                number_in(&key, *f, Check::Within(-1e300, 1e300), "").map(|()| NumberOrWord::Number(*f))
+        let item = |v: &Spanned<Value<'_>>| match (v.get_ref(), as_number(v.get_ref())) {
+            (_, Some(Ok(x))) => {
+                number_in(&key, x, Check::Within(-1e300, 1e300), "").map(|()| NumberOrWord::Number(x))
             }
-            Value::Integer(i) => Ok(NumberOrWord::Number(*i as f64)),
-            Value::String(s) => match words.iter().find(|w| **w == s.as_str()) {
+            (_, Some(Err(why))) => bad(&key, format!("{what}, got {why} in it")),
+            (Value::String(s), None) => match words.iter().find(|w| **w == s.as_ref()) {
                 Some(w) => Ok(NumberOrWord::Word(w)),
-                None => bad(&key, format!("{what}, got {s:?} in it")),
+                None => bad(&key, format!("{what}, got {} in it", kind(v.get_ref()))),
             },
-            other => bad(&key, format!("{what}, got {} in it", kind(other))),
+            (other, None) => bad(&key, format!("{what}, got {} in it", kind(other))),
         };
         items.iter().map(item).collect::<Read<Vec<_>>>().map(Some)
     }
@@ -358,7 +451,7 @@ impl<'a> Section<'a> {
             Some(Value::Array(items)) => items
                 .iter()
                 .enumerate()
-                .map(|(i, item)| match item {
+                .map(|(i, item)| match item.get_ref() {
                     Value::Table(t) => {
                         Ok(Section { path: format!("{key}[{i}]"), table: t, used: RefCell::new(Vec::new()) })
                     }
@@ -373,8 +466,17 @@ impl<'a> Section<'a> {
     /// holds (e.g. `a circle emitter`), for the message.
     pub fn finish(&self, context: &str) -> Read<()> {
         let used = self.used.borrow();
-        match self.table.keys().find(|k| !used.contains(&k.as_str())) {
+        match self.table.keys().map(|k| k.get_ref().as_ref()).find(|k| !used.contains(k)) {
             None => Ok(()),
+            // A quoted key with a dot in it is one key, not a path: say so.
+            Some(k) if k.contains('.') && !k.starts_with('.') && !k.ends_with('.') => bad(
+                &self.key(k),
+                format!(
+                    "is not a key of {context} (see docs/scenario.md); a quoted key is one key, dots and all: \
+                     for the path, write {} without quotes",
+                    k
+                ),
+            ),
             Some(k) => bad(&self.key(k), format!("is not a key of {context} (see docs/scenario.md)")),
         }
     }
@@ -382,16 +484,20 @@ impl<'a> Section<'a> {
 
 /// Checks a number read from `key`.
 pub(crate) fn number_in(key: &str, x: f64, check: Check, unit: &str) -> Read<()> {
-    if !x.is_finite() {
+    let (lo, hi, x) = match check {
+        Check::Within(lo, hi) => (Num(lo), Num(hi), Num(x)),
+        Check::Positive(hi) => (Num(0.0), Num(hi), Num(x)),
+    };
+    if !x.0.is_finite() {
         return bad(key, format!("must be a finite number, got {x}"));
     }
     let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
     match check {
-        Check::Within(lo, hi) if x < lo || x > hi => {
+        Check::Within(..) if x.0 < lo.0 || x.0 > hi.0 => {
             bad(key, format!("must be between {lo} and {hi}{unit}, got {x}"))
         }
-        Check::Positive(_) if x <= 0.0 => bad(key, format!("must be greater than 0{unit}, got {x}")),
-        Check::Positive(hi) if x > hi => bad(key, format!("must be between 0 and {hi}{unit}, got {x}")),
+        Check::Positive(_) if x.0 <= 0.0 => bad(key, format!("must be greater than 0{unit}, got {x}")),
+        Check::Positive(_) if x.0 > hi.0 => bad(key, format!("must be between 0 and {hi}{unit}, got {x}")),
         _ => Ok(()),
     }
 }

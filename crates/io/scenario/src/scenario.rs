@@ -1,11 +1,13 @@
 //! The validated scenario: reading, resolving, overriding and writing it back.
 
 use crate::error::ScenarioError;
+use crate::input::{InputKind, read_input};
 use crate::overrides::{self, Value};
 use crate::params::*;
-use crate::reader::{Read, Section};
+use crate::reader::{Read, Section, Table};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The built-in default scene: shotcrete onto a 2 m × 2 m wall from 1 m, with a floor that
 /// collects rebound.
@@ -14,8 +16,8 @@ pub const DEFAULT_SCENE: &str = include_str!("../scenes/default.toml");
 /// Where a scenario's text came from.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Source {
-    /// The text as given, before overrides.
-    text: String,
+    /// The text as given, before overrides; shared by every scenario made from it.
+    text: Arc<str>,
     /// Its name in errors.
     origin: String,
     /// The folder its relative paths start from.
@@ -71,10 +73,21 @@ struct Resolved<'a> {
 impl Scenario {
     /// Reads and validates a scenario file. Paths it names (meshes, tool paths) are read
     /// relative to the file's folder.
+    ///
+    /// The file must be a regular file of at most [`InputKind::Scenario`]'s cap (see
+    /// [`read_input`]) and UTF-8 text.
     pub fn from_path(path: &Path) -> Result<Scenario, ScenarioError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| ScenarioError::Read { origin: origin.clone(), source })?;
+        let bytes = read_input(path, InputKind::Scenario)
+            .map_err(|e| ScenarioError::Read { origin: origin.clone(), source: e.problem.into_io_error() })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            ScenarioError::Syntax {
+                location: location(&origin, Some(line_of_bytes(e.as_bytes(), at))),
+                message: format!("the file is not UTF-8 text (byte {at} is not), as TOML must be"),
+            }
+        })?;
+        let text = Arc::from(text);
         let base = path.parent().unwrap_or(Path::new("."));
         let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
         Scenario::parse(Source { text, origin, base, overrides: Vec::new() })
@@ -85,7 +98,7 @@ impl Scenario {
     pub fn from_toml(text: &str, origin: &str) -> Result<Scenario, ScenarioError> {
         let base = std::path::absolute(".").unwrap_or_else(|_| PathBuf::from("."));
         Scenario::parse(Source {
-            text: text.to_string(),
+            text: Arc::from(text),
             origin: origin.to_string(),
             base,
             overrides: Vec::new(),
@@ -99,8 +112,10 @@ impl Scenario {
     }
 
     /// This scenario with `key` (dotted, as in errors: `emitter.spawn_rate`,
-    /// `target[0].resolution`, `nozzle.raster.speed`) set to `value`, validated as if the file
-    /// had said so: a bad value is refused with the same message, naming the key.
+    /// `target[0].resolution`, `nozzle.raster.speed`; each part a bare or quoted TOML key, so
+    /// `simulation."dt"` is `simulation.dt` and `"simulation.dt"` one key of that name) set to
+    /// `value`, validated as if the file had said so: a bad value is refused with the same
+    /// message, naming the key, and located at the override (`--set KEY=VALUE`).
     pub fn with(&self, key: &str, value: impl Into<Value>) -> Result<Scenario, ScenarioError> {
         self.with_all(&[(key.to_string(), value.into())])
     }
@@ -121,33 +136,27 @@ impl Scenario {
     }
 
     fn parse(source: Source) -> Result<Scenario, ScenarioError> {
-        let text = overrides::apply(&source.text, &source.origin, &source.overrides)?;
-        let table: toml::Table = toml::from_str(&text).map_err(|e| {
-            let line = e.span().map(|s| line_of(&text, s.start));
-            let message = e.message().trim().to_string();
-            // A value that is not TOML (a bare word, a broken number) belongs to a key: name it.
-            match line.and_then(|l| key_at_line(&text, l)) {
-                Some(key) => ScenarioError::Invalid {
-                    location: location(&source.origin, line),
-                    key,
-                    message: format!("is not a valid TOML value: {message}"),
+        let (text, origin) = (&*source.text, source.origin.as_str());
+        control_characters(text, origin)?;
+        // One parse, kept with the spans of every key and value: errors found while reading
+        // are put on their lines from it, without parsing the text again.
+        let mut doc =
+            toml::de::DeTable::parse(text).map_err(|e| syntax_error(text, origin, &e))?.into_inner();
+        overrides::apply(&mut doc, &source.overrides)?;
+        Scenario::resolve(&doc, &source).map_err(|inv| {
+            let location = match locate(&doc, text, &inv.key) {
+                Place::Override(i) => match source.overrides.get(i) {
+                    Some((k, v)) => format!("--set {k}={v}"),
+                    None => origin.to_string(),
                 },
-                None => ScenarioError::Syntax { location: location(&source.origin, line), message },
-            }
-        })?;
-        Scenario::resolve(&table, &source).map_err(|inv| {
-            let names = |k: &str| {
-                inv.key == k || inv.key.starts_with(&format!("{k}.")) || inv.key.starts_with(&format!("{k}["))
-            };
-            let location = match source.overrides.iter().rev().find(|(k, _)| names(k)) {
-                Some((k, v)) => format!("--set {k}={v}"),
-                None => location(&source.origin, locate(&text, &inv.key)),
+                Place::Line(l) => location(origin, Some(l)),
+                Place::Nowhere => origin.to_string(),
             };
             ScenarioError::Invalid { location, key: inv.key, message: inv.message }
         })
     }
 
-    fn resolve(table: &toml::Table, source: &Source) -> Read<Scenario> {
+    fn resolve(table: &Table<'_>, source: &Source) -> Read<Scenario> {
         let root = Section::root(table);
         let process = read::process(&root.table_or_empty("process")?, Preset::defaults)?;
         let simulation = read::simulation(&root.table_or_empty("simulation")?, process.drag)?;
@@ -334,34 +343,129 @@ fn location(origin: &str, line: Option<usize>) -> String {
 
 /// 1-based line number of byte offset `at`.
 fn line_of(text: &str, at: usize) -> usize {
-    text.as_bytes()[..at.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+    line_of_bytes(text.as_bytes(), at)
 }
 
-/// Line of the deepest part of `key` (e.g. `target[1].normal`) present in the file.
-fn locate(text: &str, key: &str) -> Option<usize> {
-    let doc = toml_edit::Document::parse(text).ok()?;
-    let mut table = doc.as_table();
-    let mut best = None;
-    for part in key.split('.') {
-        let (name, index) = match part.split_once('[') {
-            Some((n, rest)) => (n, rest.trim_end_matches(']').parse::<usize>().ok()),
-            None => (part, None),
+/// 1-based line number of byte offset `at` of `bytes`.
+fn line_of_bytes(bytes: &[u8], at: usize) -> usize {
+    bytes[..at.min(bytes.len())].iter().filter(|&&b| b == b'\n').count() + 1
+}
+
+/// Refuses the control characters TOML allows nowhere (all but tab, line feed and carriage
+/// return), naming the line and column of the first: the parser would blame a key near it.
+fn control_characters(text: &str, origin: &str) -> Result<(), ScenarioError> {
+    let bad = |c: char| c.is_control() && !matches!(c, '\t' | '\n' | '\r') && (c as u32) < 0x80;
+    let Some(at) = text.find(bad) else { return Ok(()) };
+    let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let column = text[line_start..at].chars().count() + 1;
+    let c = text[at..].chars().next().unwrap_or('\0');
+    let name = match c {
+        '\0' => " (NUL)".to_string(),
+        '\u{7f}' => " (DEL)".to_string(),
+        _ => String::new(),
+    };
+    Err(ScenarioError::Syntax {
+        location: location(origin, Some(line_of(text, at))),
+        message: format!(
+            "column {column} holds the control character U+{:04X}{name}, which TOML does not allow anywhere in a file",
+            c as u32
+        ),
+    })
+}
+
+/// The error for text the TOML parser refused: a duplicate key or table names it; a value
+/// that is not TOML (a bare word, a broken number) names its key; anything else is a syntax
+/// error at its line.
+fn syntax_error(text: &str, origin: &str, e: &toml::de::Error) -> ScenarioError {
+    let span = e.span();
+    let line = span.as_ref().map(|s| line_of(text, s.start));
+    let message = e.message().trim().to_string();
+    let at = location(origin, line);
+    if let (true, Some(span), Some(l)) = (message.starts_with("duplicate key"), span, line) {
+        let key = duplicate_key(text, span, l);
+        return ScenarioError::Invalid {
+            location: at,
+            key,
+            message: "is given twice: a key, or a table header, may appear only once".into(),
         };
-        let Some((k, item)) = table.get_key_value(name) else { break };
-        best = k.span().or(item.span()).or(best);
-        let next = match index {
-            Some(i) => item.as_array_of_tables().and_then(|a| a.get(i)),
-            None => item.as_table(),
+    }
+    match line.and_then(|l| key_at_line(text, l)) {
+        Some(key) => ScenarioError::Invalid {
+            location: at,
+            key,
+            message: format!("is not a valid TOML value: {message}"),
+        },
+        None => ScenarioError::Syntax { location: at, message },
+    }
+}
+
+/// The dotted key that the parser found twice at `span`, on line `line`: a table header's
+/// name, or the key of a `key = value` line within its table (with the inner key when the
+/// duplicate is inside an inline table on that line).
+fn duplicate_key(text: &str, span: std::ops::Range<usize>, line: usize) -> String {
+    let name = text.get(span.clone()).map(str::trim).unwrap_or_default();
+    let Some((section, is_header)) = table_at_line(text, line) else { return name.to_string() };
+    if is_header {
+        return section;
+    }
+    let start = text[..span.start.min(text.len())].rfind('\n').map_or(0, |i| i + 1);
+    let on_line = &text[start..];
+    let on_line = on_line.split('\n').next().unwrap_or_default();
+    let key = match on_line.split_once('=') {
+        // The duplicate is the line's own key.
+        Some((k, _)) if span.start - start < k.len() => k.trim().to_string(),
+        // Inside an inline table: the line's key, then the duplicate.
+        Some((k, _)) => format!("{}.{name}", k.trim()),
+        None => name.to_string(),
+    };
+    if section.is_empty() { key } else { format!("{section}.{key}") }
+}
+
+/// Where an error's key was given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Place {
+    /// A line of the file, 1-based.
+    Line(usize),
+    /// The override of this index.
+    Override(usize),
+    /// Neither (a key nobody gave, in a table nobody gave).
+    Nowhere,
+}
+
+/// Where the deepest part of `key` (e.g. `target[1].normal`) present in `doc` was given: a
+/// line of `text`, or the override that set it (or made a table on its way).
+fn locate(doc: &Table<'_>, text: &str, key: &str) -> Place {
+    let place = |span: std::ops::Range<usize>| match overrides::override_of(&span) {
+        Some(i) => Place::Override(i),
+        None => Place::Line(line_of(text, span.start)),
+    };
+    // A key printed quoted (`"a.b"`) is split the way an override's is.
+    let Ok(steps) = overrides::parse_key(key) else { return Place::Nowhere };
+    let mut table = doc;
+    let mut best = Place::Nowhere;
+    for step in steps {
+        let Some((k, item)) = table.get_key_value(step.name.as_str()) else { break };
+        best = place(k.span());
+        if let Place::Override(_) = best {
+            // Everything under what an override set is the override's.
+            return best;
+        }
+        let next = match (step.index, item.get_ref()) {
+            (Some(i), toml::de::DeValue::Array(a)) => a.get(i).map(|t| (t.span(), t.get_ref())),
+            (None, v) => Some((item.span(), v)),
+            _ => None,
         };
         match next {
-            Some(t) => {
-                best = t.span().or(best);
+            Some((span, toml::de::DeValue::Table(t))) => {
+                if step.index.is_some() {
+                    best = place(span);
+                }
                 table = t;
             }
-            None => break,
+            _ => break,
         }
     }
-    best.map(|s| line_of(text, s.start))
+    best
 }
 
 /// Largest k·|v|·Δt accepted with drag: beyond 1 an explicit step reverses the velocity.
@@ -375,11 +479,12 @@ fn stable_drag(s: &SimulationParams, p: &ProcessParams, e: &EmitterParams) -> Re
         return crate::reader::bad(
             "process.drag",
             format!(
-                "× emitter.speed (max {} m/s) × simulation.dt ({} s) = {kvt:.3}, which makes the explicit \
+                "× emitter.speed (max {} m/s) × simulation.dt ({} s) = {}, which makes the explicit \
                  integrators unstable (it must stay below {DRAG_UNSTABLE}, and below 0.1 to be accurate): \
                  lower simulation.dt to at most {:.3e} s",
-                e.speed[1],
-                s.dt,
+                crate::reader::Num(e.speed[1]),
+                crate::reader::Num(s.dt),
+                crate::reader::Num((kvt * 1e3).round() / 1e3),
                 0.1 / (p.drag * e.speed[1])
             ),
         );
@@ -411,28 +516,50 @@ fn fits_in_memory(sc: &Scenario) -> Read<()> {
     }
 }
 
-/// The dotted key whose value starts at (or spans) line `line` of `text`, for a value the
-/// TOML parser refused: the key on that line or the nearest one above it within its table,
-/// prefixed by the table's header (`[[target]]` counted, `target[1]`).
-fn key_at_line(text: &str, line: usize) -> Option<String> {
-    let lines: Vec<&str> = text.lines().collect();
-    let upto = lines.get(..line.min(lines.len()))?;
-    let key = upto.iter().rev().take_while(|l| !l.trim_start().starts_with('[')).find_map(|l| {
-        let (k, _) = l.split_once('=')?;
-        let k = k.trim();
-        let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.';
-        (!k.is_empty() && k.chars().all(bare)).then(|| k.to_string())
-    })?;
-    let header = upto.iter().rposition(|l| l.trim_start().starts_with('['));
-    let Some(h) = header else { return Some(key) };
-    let head = upto[h].trim();
-    let section = match head.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
+/// The table whose part of `text` holds line `line` (1-based) — its dotted name, `target[1]`
+/// for the second `[[target]]`, empty for the top level — and whether that line is its header.
+/// Reads the text line by line, keeping nothing but the last header.
+fn table_at_line(text: &str, line: usize) -> Option<(String, bool)> {
+    let header = |l: &str| l.trim_start().starts_with('[');
+    let (mut last, mut at) = (None, 0);
+    for (n, l) in text.lines().take(line).enumerate() {
+        if header(l) {
+            (last, at) = (Some(l.trim()), n + 1);
+        }
+    }
+    let Some(head) = last else { return Some((String::new(), false)) };
+    let name = match head.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
         Some(name) => {
             let name = name.trim();
-            let index = upto[..h].iter().filter(|l| l.trim().starts_with(&format!("[[{name}]]"))).count();
+            let opener = format!("[[{name}]]");
+            let index = text.lines().take(at - 1).filter(|l| l.trim().starts_with(&opener)).count();
             format!("{name}[{index}]")
         }
         None => head.trim_start_matches('[').split(']').next()?.trim().to_string(),
     };
-    Some(format!("{section}.{key}"))
+    Some((name, at == line))
+}
+
+/// The dotted key whose value starts at (or spans) line `line` of `text`, for a value the
+/// TOML parser refused: the key on that line or the nearest one above it within its table,
+/// prefixed by the table's header (`[[target]]` counted, `target[1]`). Reads the text line
+/// by line.
+fn key_at_line(text: &str, line: usize) -> Option<String> {
+    let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.';
+    let mut key = None;
+    for l in text.lines().take(line) {
+        if l.trim_start().starts_with('[') {
+            key = None;
+        } else if let Some((k, _)) = l.split_once('=') {
+            let k = k.trim();
+            if !k.is_empty() && k.chars().all(bare) {
+                key = Some(k);
+            }
+        }
+    }
+    let key = key?;
+    match table_at_line(text, line)? {
+        (section, _) if section.is_empty() => Some(key.to_string()),
+        (section, _) => Some(format!("{section}.{key}")),
+    }
 }

@@ -82,10 +82,14 @@ fn value_factor(unit: &str) -> Option<(Quantity, f64)> {
 }
 
 impl MeasuredProfile {
-    /// Reads a profile file.
+    /// Reads a profile file: a regular file within the profile size limit
+    /// ([`spraysim_scenario::InputKind::Profile`]), in UTF-8.
     pub fn from_path(path: &Path) -> Result<MeasuredProfile, CalibrationError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| CalibrationError::Read { path: path.to_path_buf(), source })?;
+        let read = |source| CalibrationError::Read { path: path.to_path_buf(), source };
+        let bytes = spraysim_scenario::read_input(path, spraysim_scenario::InputKind::Profile)
+            .map_err(|e| read(e.problem.into_io_error()))?;
+        let text = String::from_utf8(bytes)
+            .map_err(|_| read(std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text")))?;
         MeasuredProfile::from_csv(&text, &path.display().to_string())
     }
 

@@ -3,7 +3,7 @@
 //! them, so this crate stays free of any GPU code.
 
 use crate::params::Preset;
-use crate::reader::{Check, NumberOrWord, Read, Section, bad, choices};
+use crate::reader::{Check, Num, NumberOrWord, Read, Section, bad, choices};
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
@@ -157,7 +157,11 @@ impl RenderParams {
             {
                 return Err((
                     "at",
-                    format!("must be times within the run, 0 to {duration} s, or \"end\"; got {t}"),
+                    format!(
+                        "must be times within the run, 0 to {} s, or \"end\"; got {}",
+                        Num(duration),
+                        Num(t)
+                    ),
                 ));
             }
         }
@@ -171,13 +175,16 @@ impl RenderParams {
             return Err(("size", format!("must be two sizes of 16 to 8192 px, got {:?}", self.size)));
         }
         if !(self.fov.is_finite() && self.fov > 1.0 && self.fov < 170.0) {
-            return Err(("fov", format!("must be between 1 and 170 degrees, got {}", self.fov)));
+            return Err(("fov", format!("must be between 1 and 170 degrees, got {}", Num(self.fov))));
         }
         if !(self.point_size.is_finite() && (1.0..=64.0).contains(&self.point_size)) {
-            return Err(("point_size", format!("must be between 1 and 64 px, got {}", self.point_size)));
+            return Err(("point_size", format!("must be between 1 and 64 px, got {}", Num(self.point_size))));
         }
         if !(self.exaggeration.is_finite() && (0.0..=1000.0).contains(&self.exaggeration)) {
-            return Err(("exaggeration", format!("must be between 0 and 1000, got {}", self.exaggeration)));
+            return Err((
+                "exaggeration",
+                format!("must be between 0 and 1000, got {}", Num(self.exaggeration)),
+            ));
         }
         if !(1..=100_000_000).contains(&self.max_particles) {
             return Err(("max_particles", format!("must be between 1 and 10⁸, got {}", self.max_particles)));

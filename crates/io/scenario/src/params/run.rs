@@ -37,7 +37,7 @@ pub struct SimulationParams {
 pub(crate) fn read_simulation(s: &Section<'_>, drag: f64) -> Read<SimulationParams> {
     let dt = s.number("dt", Some(1e-3), Check::Positive(0.1), "s")?;
     if dt < 1e-7 {
-        return bad(&s.key("dt"), format!("must be at least 1e-7 s, got {dt}"));
+        return bad(&s.key("dt"), format!("must be at least 1e-7 s, got {}", crate::reader::Num(dt)));
     }
     let duration = s.number("duration", Some(2.0), Check::Positive(1e6), "s")?;
     if duration / dt > 1e9 {
