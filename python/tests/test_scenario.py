@@ -1,7 +1,9 @@
 """Scenarios from files, text, dicts and the default scene; overrides and their refusals."""
 
+import json
 import pickle
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -56,14 +58,33 @@ def test_a_bad_override_raises_naming_the_key_with_the_commands_message(cli, tmp
     e = refused.value
     assert e.key == key
     assert isinstance(e, ValueError)
-    assert f"`{key}`" in str(e)
-    assert e.location == f"--set {assignment}"
+    # Located at the Python call, with the value as given, not at the command's `--set`.
+    assert e.location == f"Scenario.set({key!r}, {value!r})"
+    assert str(e) == f"{e.location}: `{key}` {e.message}"
     # The command refuses the same override with the same words.
     scene = tmp_path / "scene.toml"
     scene.write_text(Scenario().to_toml())
     out = subprocess.run([cli, "check", str(scene), "--set", assignment], capture_output=True, text=True)
     assert out.returncode != 0
-    assert out.stderr.strip() == f"error: {e}"
+    assert out.stderr.strip() == f"error: --set {assignment}: `{key}` {e.message}"
+
+
+def test_override_errors_name_the_python_call_that_gave_the_value():
+    with pytest.raises(ScenarioError) as refused:
+        Scenario().set_many({"simulation.seed": 3, "emitter.speed": [30, 20]})
+    assert refused.value.location == "Scenario.set_many({'emitter.speed': [30, 20]})"
+    assert str(refused.value).startswith("Scenario.set_many({'emitter.speed': [30, 20]}): `emitter.speed` ")
+    with pytest.raises(ScenarioError) as refused:
+        Scenario().assign("emitter.spawn_rate=-1")
+    assert refused.value.location == "Scenario.assign('emitter.spawn_rate=-1')"
+    with pytest.raises(ScenarioError) as refused:
+        Scenario().set("emitter.speed", [20.0, None])
+    assert refused.value.location == "Scenario.set('emitter.speed', [20.0, None])"
+    # An override made by an earlier call, which a later one made impossible, is named too.
+    with pytest.raises(ScenarioError) as refused:
+        Scenario().set("target[0].resolution", [1024, 1024]).set("simulation.max_memory", 1.5e8)
+    assert refused.value.key == "target[0].resolution"
+    assert refused.value.location == "Scenario.set('target[0].resolution', [1024, 1024])"
 
 
 def test_values_without_a_toml_form_are_refused_naming_the_key():
@@ -105,3 +126,70 @@ def test_presets_are_the_commands_presets():
 def test_scenarios_pickle():
     scenario = Scenario().set("emitter.speed", [20, 28])
     assert pickle.loads(pickle.dumps(scenario)) == scenario
+
+
+def nested_dict(depth):
+    """{"a": {"a": ... {} ...}} with `depth` dicts inside the outermost one."""
+    value = {}
+    for _ in range(depth):
+        value = {"a": value}
+    return value
+
+
+def refusal_in_a_child(build):
+    """Runs `build` (code that makes a scenario) in a child process, so that a crash fails the
+    test instead of ending the test run; returns the ScenarioError's key and message."""
+    code = (
+        "import json, spraysim\n"
+        "try:\n"
+        f"    exec({build!r})\n"
+        "except spraysim.ScenarioError as e:\n"
+        "    print(json.dumps([e.key, e.message, str(e)]))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout, "not refused"
+    return json.loads(out.stdout)
+
+
+def test_a_value_that_contains_itself_is_refused_naming_the_key():
+    key, message, _ = refusal_in_a_child("d = {}\nd['self'] = d\nspraysim.Scenario({'output': d})")
+    assert key == "output.self"
+    assert "`output`" in message and "contain itself" in message
+    key, message, _ = refusal_in_a_child("v = [1.0]\nv.append(v)\nspraysim.Scenario().set('emitter.speed', v)")
+    assert key == "emitter.speed[1]"
+    assert "`emitter.speed`" in message and "contain itself" in message
+
+
+@pytest.mark.parametrize("depth", [33, 100, 1000])
+def test_values_nested_deeper_than_the_cap_are_refused_naming_the_key_path(depth):
+    with pytest.raises(ScenarioError) as refused:
+        Scenario({"output": nested_dict(depth)})
+    # The cap is hit at the 32nd level: `output` and 31 levels of `a` below it.
+    assert refused.value.key == "output" + ".a" * 31
+    assert "32 levels" in refused.value.message
+    assert str(refused.value).startswith("<dict>: `output.a.a.")
+
+
+def test_values_within_the_nesting_cap_reach_the_scenarios_own_checks():
+    with pytest.raises(ScenarioError) as refused:
+        Scenario({"output": nested_dict(30)})
+    assert refused.value.key == "output.a"
+    assert "levels" not in refused.value.message
+
+
+@pytest.mark.parametrize(
+    "build, key",
+    [
+        ("value = {}\nfor _ in range(10_000): value = {'a': value}\nspraysim.Scenario(value)", "a" + ".a" * 31),
+        (
+            "value = []\nfor _ in range(100_000): value = [value]\nspraysim.Scenario().set('emitter.speed', value)",
+            "emitter.speed" + "[0]" * 32,
+        ),
+    ],
+    ids=["dict-10k-deep", "list-100k-deep"],
+)
+def test_runaway_nesting_raises_instead_of_crashing_the_interpreter(build, key):
+    refused_key, message, _ = refusal_in_a_child(build)
+    assert refused_key == key
+    assert "32 levels" in message

@@ -3,6 +3,7 @@
 import filecmp
 import json
 import os
+import re
 import subprocess
 
 import numpy as np
@@ -134,7 +135,7 @@ def test_maps_cannot_be_taken_while_the_simulation_runs(short):
             refusals.append(str(e))
 
     sim.run(progress=progress)
-    assert refusals and "borrowed" in refusals[0]
+    assert refusals and "busy in this same thread" in refusals[0]
 
 
 def test_particles_are_the_ones_in_flight(short):
@@ -244,3 +245,90 @@ def test_threads_do_not_change_results(short):
         sim.run()
         runs.append(sim.metrics_json())
     assert runs[0] == runs[1]
+
+
+def test_a_target_index_out_of_range_raises_index_error_listing_the_targets(short):
+    sim = Simulation(short)
+    for accessor in (sim.thickness, sim.hits, sim.erosion, sim.target_info):
+        with pytest.raises(IndexError, match=r"negative.*0 to 1.*wall, floor"):
+            accessor(-1)
+        with pytest.raises(IndexError, match=r"no target 2.*0 to 1.*wall, floor"):
+            accessor(2)
+        with pytest.raises(IndexError, match="wall, floor"):
+            accessor(10**30)
+        with pytest.raises(TypeError, match=r"name \(str\) or index \(int\), got float"):
+            accessor(0.5)
+    assert sim.target_info(np.int64(1))["name"] == "floor"
+    assert sim.thickness(1).shape == sim.thickness("floor").shape
+
+
+def test_unknown_waypoint_keys_are_refused_naming_the_key(short):
+    sim = Simulation(short)
+    before = sim.nozzle_waypoints()
+    with pytest.raises(ValueError, match=r"`waypoints\[1\]` has an unknown key 'spary'.*time, position, axis, spray"):
+        sim.set_nozzle_path(
+            [
+                {"time": 0.0, "position": [-1, 0, 1], "axis": [1, 0, 0]},
+                {"time": 0.1, "position": [-1, 0, 1], "axis": [1, 0, 0], "spary": False},
+            ]
+        )
+    with pytest.raises(ValueError, match=r"`waypoints\[0\]` .* got 5 items"):
+        sim.set_nozzle_path([(0.0, [-1, 0, 1], [1, 0, 0], True, "extra")])
+    assert len(sim.nozzle_waypoints()) == len(before)  # the path is left as it was
+
+
+@pytest.mark.parametrize(
+    "position, axis, refused",
+    [
+        ([0, 0, 1], [float("nan"), 0, 0], "`axis` must be three finite numbers"),
+        ([0, 0, 1], [0, 0, 0], "`axis` must be a non-zero direction"),
+        ([0, 0, 1], [float("inf"), 0, 0], "`axis` must be three finite numbers"),
+        ([0, float("nan"), 1], None, "`position` must be three finite numbers"),
+        ([2e4, 0, 1], None, "`position` must lie within ±10000 m"),
+        ([0, 0, -1e5], [1, 0, 0], "`position` must lie within ±10000 m"),
+    ],
+)
+def test_nozzle_poses_beyond_reach_or_without_direction_are_refused(short, position, axis, refused):
+    sim = Simulation(short)
+    before = sim.nozzle()
+    with pytest.raises(ValueError, match=refused):
+        sim.set_nozzle(position, axis)
+    with pytest.raises(ValueError, match=refused.replace("`", r"`waypoints\[0\]\.", 1)):
+        sim.set_nozzle_path([{"time": 0.0, "position": position, "axis": axis if axis else [1, 0, 0]}])
+    np.testing.assert_array_equal(sim.nozzle()["position"], before["position"])
+
+
+def test_a_very_long_or_short_axis_is_normalised(short):
+    sim = Simulation(short)
+    sim.set_nozzle([-1, 0, 1], [1e308, 1e308, 0])
+    np.testing.assert_allclose(sim.nozzle()["axis"], [2**-0.5, 2**-0.5, 0.0])
+    sim.set_nozzle([-1, 0, 1], [1e-300, 0, 0])
+    np.testing.assert_allclose(sim.nozzle()["axis"], [1.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("threads", [-1, -(10**30)])
+def test_a_negative_thread_count_is_refused(short, threads):
+    with pytest.raises(ValueError, match="`threads` must be 0 .* or a positive count"):
+        Simulation(short, threads=threads)
+    with pytest.raises(ValueError, match="`threads` must be 0"):
+        spraysim.run_many([short], threads=threads)
+    sim = Simulation(short, threads=1)
+    with pytest.raises(ValueError, match="`threads` must be 0"):
+        sim.threads = threads
+    assert sim.threads == 1
+
+
+@pytest.mark.parametrize("threads", [10**5, 10**30])
+def test_a_thread_count_above_the_cap_is_refused_naming_the_cap(short, threads):
+    # Refused before any thread starts, naming the most this machine allows (8 per core, at
+    # least 64).
+    cap = r"at most (\d+) worker threads .*8 per core"
+    with pytest.raises(ValueError, match=cap) as refused:
+        Simulation(short, threads=threads)
+    assert 64 <= int(re.search(cap, str(refused.value)).group(1)) < threads
+    with pytest.raises(ValueError, match=cap):
+        spraysim.run_many([short], threads=threads)
+    with pytest.raises(ValueError, match=cap):
+        Simulation(short).threads = threads
+    with pytest.raises(TypeError, match="`threads` must be a whole number"):
+        Simulation(short, threads=2.0)

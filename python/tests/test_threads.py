@@ -100,3 +100,91 @@ def test_ctrl_c_interrupts_run_many():
     with pytest.raises(KeyboardInterrupt):
         spraysim.run_many([LONG, LONG.set("simulation.seed", 2)], threads=2)
     timer.join()
+
+
+def test_threads_sharing_one_simulation_take_turns_call_by_call(short):
+    # Two threads advance one simulation in calls of 10 steps (`step(10)`, and `run` to whole
+    # tens of steps) while a third reads it: each call waits for the other thread's to end, so
+    # the readers only ever see whole calls, and the result is that of one thread stepping.
+    sim = Simulation(short, threads=1)
+    errors, seen, done = [], [], threading.Event()
+
+    def guarded(work):
+        def target():
+            try:
+                work()
+            except Exception as e:  # reported by the assertions below
+                errors.append(e)
+
+        return threading.Thread(target=target)
+
+    def stepper():
+        for _ in range(10):
+            sim.step(10)
+
+    def runner():
+        for k in range(1, 21):
+            sim.run(until=k * 0.01)
+
+    def reader():
+        while True:
+            last = done.is_set()
+            m = sim.metrics()
+            seen.append((sim.steps_done, round(m["time"] / sim.dt)))
+            sim.thickness("wall", copy=True)
+            sim.particles()
+            if last:
+                break
+
+    workers = [guarded(stepper), guarded(runner)]
+    watcher = guarded(reader)
+    for t in [*workers, watcher]:
+        t.start()
+    for t in workers:
+        t.join()
+    done.set()
+    watcher.join()
+    assert errors == []
+    assert seen and all(steps % 10 == 0 and at % 10 == 0 for steps, at in seen), seen
+    assert sim.steps_done >= 200 and sim.steps_done % 10 == 0
+    straight = Simulation(short, threads=1)
+    straight.step(sim.steps_done)
+    assert sim.metrics_json() == straight.metrics_json()
+
+
+@pytest.mark.skipif(os.name == "nt", reason="SIGINT delivery by os.kill is POSIX-only")
+def test_ctrl_c_interrupts_a_thread_waiting_for_a_simulation_busy_in_another():
+    sim = Simulation(LONG, threads=1)
+    started, stop = threading.Event(), threading.Event()
+
+    class Stopped(Exception):
+        pass
+
+    def progress(time_s, until_s):
+        started.set()
+        if stop.is_set():
+            raise Stopped
+
+    def worker():
+        try:
+            sim.run(progress=progress)
+        except Stopped:
+            pass
+
+    thread = threading.Thread(target=worker)
+    thread.start()
+    try:
+        assert started.wait(60)
+        timer = interrupt_after(0.3)
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                sim.step()  # waits for the other thread's run, until Ctrl-C
+        finally:
+            timer.cancel()  # when the step did not wait, no Ctrl-C must come later
+            timer.join()
+    finally:
+        stop.set()
+        thread.join()
+    steps = sim.steps_done
+    sim.step(2)
+    assert sim.steps_done == steps + 2

@@ -36,17 +36,20 @@ _ScenarioSource = Union["Scenario", Mapping[str, Any], str, "os.PathLike[str]", 
 """A scenario, a dict shaped like the TOML file, a file path, or None (the default scene)."""
 
 class ScenarioError(ValueError):
-    """A scenario was refused: unknown key, wrong type, impossible value.
+    """A scenario was refused: unknown key, wrong type, impossible value, a value nested deeper
+    than 32 levels of dicts and lists or holding itself.
 
-    The text is the one the ``spraysim`` command prints, e.g.
-    ``--set emitter.spawn_rate=-1.0: `emitter.spawn_rate` must be greater than 0 1/s, got -1``.
+    The text is ``location: `key` message``, e.g.
+    ``Scenario.set('emitter.spawn_rate', -1.0): `emitter.spawn_rate` must be greater than 0 1/s,
+    got -1``; ``message`` holds the words the ``spraysim`` command prints for the same value.
     """
 
     key: Optional[str]
     """Dotted key refused (``"emitter.speed"``, ``"target[0].resolution"``); None for a syntax or
     read error."""
     location: Optional[str]
-    """Where the value was given: ``file:line``, or ``--set KEY=VALUE`` for an override."""
+    """Where the value was given: ``file:line``, ``<dict>`` (or ``scenarios[i]`` in
+    ``run_many``), or the Python call that set it, e.g. ``Scenario.set('emitter.speed', [30, 20])``."""
     message: str
     """What is wrong."""
 
@@ -58,6 +61,9 @@ class Scenario:
     ``Scenario()`` is the built-in default scene (wet-mix shotcrete for 2 s onto a 2 m × 2 m
     wall from 1 m, with a floor collecting the rebound); ``Scenario(path)`` reads a TOML file,
     ``Scenario(dict)`` a dict shaped like the file. Equal when they resolve to the same values.
+
+    Values from Python (dicts, ``set`` values) may nest dicts and lists at most 32 levels deep
+    and must not contain themselves; both are refused with :class:`ScenarioError` naming the key.
     """
 
     def __new__(cls, source: _ScenarioSource = None) -> "Scenario": ...
@@ -77,7 +83,7 @@ class Scenario:
         """A new scenario with the dotted ``key`` (``"emitter.spawn_rate"``,
         ``"target[0].resolution"``, ``"emitter.speed"``) set to ``value`` (number, bool, str,
         list, dict or numpy array, in the file's units: m, s, kg, degrees). Checked exactly as a
-        file's value; raises :class:`ScenarioError` naming the key."""
+        file's value; raises :class:`ScenarioError` naming the key and this call."""
     def set_many(self, overrides: Union[Mapping[str, Any], Iterable[Tuple[str, Any]]]) -> "Scenario":
         """``set`` for several keys, applied in order."""
     def assign(self, assignment: str) -> "Scenario":
@@ -196,10 +202,16 @@ class _TargetInfo(_TargetGeometry):
 class Simulation:
     """A running simulation of a scenario.
 
-    ``threads`` is the number of worker threads (0: one per core); results do not depend on
-    it. ``step`` and ``run`` release the interpreter while they work, in slices of about 10 ms:
-    other Python threads run meanwhile, and Ctrl-C raises ``KeyboardInterrupt`` within a slice,
-    leaving the simulation valid at the step it reached.
+    ``threads`` is the number of worker threads (0: one per core, at most 8 per core or 64,
+    whichever is more; more raises ``ValueError``); results do not depend on it. ``step`` and
+    ``run`` release the interpreter while they work, in slices of about 10 ms: other Python
+    threads run meanwhile, and Ctrl-C raises ``KeyboardInterrupt`` within a slice, leaving the
+    simulation valid at the step it reached.
+
+    Thread-safe: calls from several threads take turns in the order they came, each waiting
+    (with the interpreter released, Ctrl-C still working) until the call before it has returned.
+    A callback of a call (``run``'s ``progress``) cannot use its own simulation: that raises
+    ``RuntimeError``.
     """
 
     def __new__(cls, scenario: _ScenarioSource = None, threads: int = 0) -> "Simulation": ...
@@ -212,7 +224,8 @@ class Simulation:
     ) -> None:
         """Runs until simulated time reaches ``until`` (s; the configured duration when None).
         ``progress=True`` prints the simulated time to stderr; a callable is called as
-        ``progress(time_s, until_s)`` about every 10 ms."""
+        ``progress(time_s, until_s)`` about every 10 ms (it cannot use this simulation, which
+        is busy with the run)."""
     @property
     def time(self) -> float:
         """Simulated time, s."""
@@ -231,13 +244,13 @@ class Simulation:
     def is_finished(self) -> bool:
         """True once the configured duration has been simulated."""
     threads: int
-    """Worker threads (0: one per core); results do not depend on it."""
+    """Worker threads (0: one per core, at most 8 per core or 64); results do not depend on it."""
     @property
     def scenario(self) -> Scenario: ...
     @property
     def target_names(self) -> list[str]: ...
     def emitted(self) -> Tuple[int, float]:
-        """_Particles emitted so far: ``(count, volume in m³)``."""
+        """Particles emitted so far: ``(count, volume in m³)``."""
     def metrics(self) -> dict[str, Any]:
         """The results so far, equal to what ``metrics.json`` holds (less its ``files``
         manifest)."""
@@ -265,7 +278,8 @@ class Simulation:
         openings hold 0. On a cylinder shell, the unrolled (rows along the axis, cols around it)
         map. On a mesh, one value per triangle, in the file's order. ``copy=False``: a read-only
         view of the simulation's memory (no copy) that shows later steps; ``copy=True``: an
-        independent array."""
+        independent array. ``target`` is a name or an index from 0: an unknown name raises
+        ``KeyError``, a negative or too large index ``IndexError``, both listing the targets."""
     def hits(self, target: Union[str, int], copy: bool = False) -> npt.NDArray[np.uint32]:
         """Impacts per cell (stuck or rebounded), laid out as ``thickness``."""
     def erosion(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
@@ -280,8 +294,10 @@ class Simulation:
         axis: Optional[npt.ArrayLike] = None,
         spray: bool = True,
     ) -> None:
-        """Holds the nozzle at ``position`` (m) spraying along ``axis`` (the present axis when
-        None) from the next step on (closed-loop control)."""
+        """Holds the nozzle at ``position`` (m, finite, within ±10⁴ m of the origin as in
+        scenario files) spraying along ``axis`` (finite, non-zero, normalised; the present axis
+        when None) from the next step on (closed-loop control). Anything else raises
+        ``ValueError`` naming the argument."""
     def set_nozzle_path(
         self,
         waypoints: Iterable[Union[_Waypoint, Mapping[str, Any], Tuple[Any, ...]]],
@@ -289,7 +305,9 @@ class Simulation:
     ) -> None:
         """Replaces the nozzle's path from the next step on: waypoints in absolute simulated
         time (s, strictly increasing), position interpolated linearly and axis spherically;
-        ``roll`` (rad) turns the aperture about the axis."""
+        ``roll`` (rad) turns the aperture about the axis. A waypoint dict takes the keys
+        ``time``, ``position``, ``axis`` and ``spray`` only; positions and axes are checked as by
+        ``set_nozzle``."""
     def nozzle_waypoints(self) -> list[dict[str, Any]]:
         """The nozzle's path as waypoint dicts."""
 
@@ -305,10 +323,19 @@ def run_many(
     scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[False] = False
 ) -> list[dict[str, Any]]:
     """Runs every scenario to its end in parallel inside Rust on ``threads`` threads (0: one
-    per core), releasing the interpreter. Returns each run's metrics (equal to its
+    per core), releasing the interpreter. ``scenarios`` is a list or any iterable (a generator
+    too) of scenarios; a single ``str``, path, ``dict`` or ``Scenario`` raises ``TypeError``
+    (pass a list), as does a None item. Returns each run's metrics (equal to its
     ``metrics.json``), in order; with ``maps=True``, ``(metrics, {target: thickness})`` pairs
     (thickness in m, laid out as ``Simulation.thickness``). Results equal those of sequential
-    runs."""
+    runs.
+
+    The scenarios are all read and checked first (no simulation is built then). At most
+    ``threads`` simulations (one per core for 0) are alive at a time, fewer when the memory
+    limit needs it; each is built when a worker frees and dropped once its result is taken. Before anything runs, the batch is checked against the memory limit (the largest
+    ``simulation.max_memory`` of its scenarios, by default half of the machine's memory): a
+    batch whose results cannot all be kept raises ``MemoryError`` saying what to change
+    (``maps=False``, or smaller parts)."""
 @overload
 def run_many(
     scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[True] = ...

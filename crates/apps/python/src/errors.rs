@@ -9,8 +9,10 @@ pyo3::create_exception!(
     PyValueError,
     "A scenario was refused: unknown key, wrong type, impossible value. `key` is the dotted key \
      (`emitter.speed`, `target[0].resolution`) or None for a syntax or read error, `location` \
-     where it was given (`file:line`, or `--set KEY=VALUE` for an override), `message` what is \
-     wrong. The text is the one the `spraysim` command prints."
+     where it was given (`file:line`, `<dict>`, or the Python call that set it, e.g. \
+     `Scenario.set('emitter.speed', [30, 20])`), `message` what is wrong (the words the \
+     `spraysim` command prints). The text is `location: `key` message` (without the key for a \
+     syntax or read error)."
 );
 
 /// A `ScenarioError` with its `key`, `location` and `message` attributes set.
@@ -40,6 +42,22 @@ pub fn refusal(
     let _ = value.setattr("location", location);
     let _ = value.setattr("message", message);
     err
+}
+
+/// `e` with the location of an override, which the scenario crate gives as the command line's
+/// `--set KEY=VALUE`, replaced by the Python call that made it: `called("KEY=VALUE")` names
+/// that call (`Scenario.set('emitter.speed', [30, 20])`). Other locations are kept.
+pub fn relocated(e: spraysim::ScenarioError, called: impl Fn(&str) -> String) -> spraysim::ScenarioError {
+    use spraysim::ScenarioError as E;
+    let place = |location: String| match location.strip_prefix("--set ") {
+        Some(assignment) => called(assignment),
+        None => location,
+    };
+    match e {
+        E::Invalid { location, key, message } => E::Invalid { location: place(location), key, message },
+        E::Syntax { location, message } => E::Syntax { location: place(location), message },
+        read @ E::Read { .. } => read,
+    }
 }
 
 /// A `ValueError` for an engine set-up error.

@@ -10,10 +10,21 @@
 //! [`spraysim::Simulation`] stepped with the interpreter released in slices of about 10 ms, so
 //! that other Python threads run meanwhile and Ctrl-C raises `KeyboardInterrupt` between two
 //! slices. SI units throughout (m, s, kg); angles in radians.
+//!
+//! Limits, each refused with a Python exception that names the argument or key:
+//! - a scenario value (a `dict` or a `Scenario.set` value) nests dicts and lists at most 32
+//!   levels deep (`convert::MAX_DEPTH`) and never holds itself (`ScenarioError`);
+//! - `threads=` is 0 (one per core) up to [`spraysim::max_threads`] (`ValueError`);
+//! - `run_many` keeps at most `threads` simulations alive at a time and checks its results
+//!   against the memory limit before it starts (`MemoryError`);
+//! - a `Simulation` is used by one thread at a time: other threads' calls wait their turn, in
+//!   order, with the interpreter released (module `exclusive`).
 
+mod args;
 mod batch;
 mod convert;
 mod errors;
+mod exclusive;
 mod nozzle;
 mod scenario;
 mod simulation;

@@ -1,7 +1,7 @@
 //! `spraysim.Scenario`: a validated, immutable scenario, and the presets.
 
 use crate::convert::{self, Refused};
-use crate::errors::{refusal, scenario_error};
+use crate::errors::{refusal, relocated, scenario_error};
 use pyo3::exceptions::{PyKeyError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
@@ -25,14 +25,20 @@ pub struct PyScenario {
 /// The scenario `source` stands for: None (the default scene), a `Scenario`, a `dict`, or a
 /// file path (`str` or `os.PathLike`).
 pub fn scenario_from(py: Python<'_>, source: Option<&Bound<'_, PyAny>>) -> PyResult<Scenario> {
-    let Some(source) = source.filter(|s| !s.is_none()) else {
-        return Ok(Scenario::default_scene());
-    };
+    match source.filter(|s| !s.is_none()) {
+        None => Ok(Scenario::default_scene()),
+        Some(s) => read(py, s, "<dict>"),
+    }
+}
+
+/// The scenario `source` stands for: a `Scenario`, a `dict` (named `origin` in errors), or a
+/// file path (`str` or `os.PathLike`).
+pub fn read(py: Python<'_>, source: &Bound<'_, PyAny>, origin: &str) -> PyResult<Scenario> {
     if let Ok(s) = source.cast::<PyScenario>() {
         return Ok(s.get().inner.clone());
     }
     if let Ok(d) = source.cast::<PyDict>() {
-        return from_dict(py, d, "<dict>");
+        return from_dict(py, d, origin);
     }
     if source.is_instance_of::<PyString>() || source.hasattr("__fspath__")? {
         let path: std::path::PathBuf = source.extract()?;
@@ -40,7 +46,7 @@ pub fn scenario_from(py: Python<'_>, source: Option<&Bound<'_, PyAny>>) -> PyRes
     }
     Err(PyTypeError::new_err(format!(
         "a scenario is a Scenario, a dict or a file path, not a {}",
-        source.get_type().name()?
+        crate::args::type_name(source)
     )))
 }
 
@@ -117,7 +123,7 @@ impl PyScenario {
     /// list or dict, in the file's units), validated as if the file had said so. Raises
     /// `ScenarioError` naming the key when refused.
     fn set(&self, py: Python<'_>, key: &str, value: &Bound<'_, PyAny>) -> PyResult<Self> {
-        self.set_many_pairs(py, vec![(key.to_string(), value.clone())])
+        self.set_many_pairs(py, vec![(key.to_string(), value.clone())], Setter::Set)
     }
 
     /// `set` for several keys at once, applied in order: a dict `{key: value}` or pairs.
@@ -127,13 +133,23 @@ impl PyScenario {
             Err(_) => overrides.clone(),
         };
         let pairs = items.extract::<Vec<(String, Bound<'_, PyAny>)>>()?;
-        self.set_many_pairs(py, pairs)
+        self.set_many_pairs(py, pairs, Setter::SetMany)
     }
 
     /// `set` from `"KEY=VALUE"` text exactly as the command's `--set` takes it: the value is TOML
     /// (`3`, `2e4`, `[20, 28]`, `"painting"`) or a bare word taken as a string.
     fn assign(&self, py: Python<'_>, assignment: &str) -> PyResult<Self> {
-        let inner = self.inner.with_assignment(assignment).map_err(|e| scenario_error(py, &e))?;
+        let key = |a: &str| a.split_once('=').map(|(k, _)| k.trim().to_string());
+        let inner = self.inner.with_assignment(assignment).map_err(|e| {
+            let e = relocated(e, |given| {
+                if given == assignment || key(given) == key(assignment) {
+                    format!("Scenario.assign({})", py_repr(py, assignment))
+                } else {
+                    earlier(py, given)
+                }
+            });
+            scenario_error(py, &e)
+        })?;
         Ok(PyScenario { inner })
     }
 
@@ -225,15 +241,60 @@ impl PyScenario {
     }
 }
 
+/// The Python method that set values, to name it in errors.
+#[derive(Clone, Copy)]
+enum Setter {
+    /// `Scenario.set(key, value)`.
+    Set,
+    /// `Scenario.set_many({key: value})`.
+    SetMany,
+}
+
 impl PyScenario {
-    fn set_many_pairs(&self, py: Python<'_>, pairs: Vec<(String, Bound<'_, PyAny>)>) -> PyResult<Self> {
+    fn set_many_pairs(
+        &self,
+        py: Python<'_>,
+        pairs: Vec<(String, Bound<'_, PyAny>)>,
+        setter: Setter,
+    ) -> PyResult<Self> {
+        // How each pair is named in errors: the call that gave it, with the value as given.
+        let call = |key: &str, value: &Bound<'_, PyAny>| {
+            let (key, value) = (py_repr(py, key), crate::args::short_repr(value));
+            match setter {
+                Setter::Set => format!("Scenario.set({key}, {value})"),
+                Setter::SetMany => format!("Scenario.set_many({{{key}: {value}}})"),
+            }
+        };
         let mut overrides = Vec::with_capacity(pairs.len());
-        for (key, value) in pairs {
-            let v = convert::to_toml(&value, &key).map_err(|r| refused(py, &format!("--set {key}"), r))?;
-            overrides.push((key, Value::Toml(v.to_string())));
+        let mut named = Vec::with_capacity(pairs.len());
+        for (key, value) in &pairs {
+            let v = convert::to_toml(value, key).map_err(|r| refused(py, &call(key, value), r))?;
+            let text = v.to_string();
+            named.push((format!("{key}={text}"), call(key, value)));
+            overrides.push((key.clone(), Value::Toml(text)));
         }
-        let inner = self.inner.with_all(&overrides).map_err(|e| scenario_error(py, &e))?;
+        let inner = self.inner.with_all(&overrides).map_err(|e| {
+            let e = relocated(e, |assignment| match named.iter().rev().find(|(a, _)| a == assignment) {
+                Some((_, call)) => call.clone(),
+                None => earlier(py, assignment),
+            });
+            scenario_error(py, &e)
+        })?;
         Ok(PyScenario { inner })
+    }
+}
+
+/// `text` as a Python string literal (`'emitter.speed'`).
+pub(crate) fn py_repr(py: Python<'_>, text: &str) -> String {
+    let s = PyString::new(py, text);
+    s.repr().map_or_else(|_| format!("{text:?}"), |r| r.to_string())
+}
+
+/// How an override made by an earlier call (`KEY=VALUE`, the value as TOML) is named in errors.
+fn earlier(py: Python<'_>, assignment: &str) -> String {
+    match assignment.split_once('=') {
+        Some((key, value)) => format!("Scenario.set({}, {value})", py_repr(py, key)),
+        None => format!("Scenario.assign({})", py_repr(py, assignment)),
     }
 }
 

@@ -1,14 +1,17 @@
 //! `spraysim.Simulation` and `spraysim.Snapshot`.
 
-use crate::errors::{output_error, setup_error};
-use crate::scenario::{PyScenario, scenario_from};
+use crate::args::Threads;
+use crate::errors::{output_error, relocated, scenario_error, setup_error};
+use crate::exclusive::{Exclusive, Turn};
+use crate::scenario::{PyScenario, py_repr, scenario_from};
 use crate::{convert, nozzle, views, work};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::sync::MutexExt;
 use pyo3::types::PyDict;
 use spraysim::deposit::DepositSurface;
 use spraysim::{Scenario, Simulation};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 /// The engine's simulation and a token counting the arrays that view its memory.
 pub(crate) struct Held {
@@ -23,25 +26,40 @@ impl Held {
     }
 }
 
-/// A running simulation of a scenario.
-///
-/// `Simulation(scenario=None, threads=0)`: `scenario` is a `Scenario`, a `dict`, a file path or
-/// None (the default scene); `threads` is the number of worker threads (0: one per core).
-/// Results do not depend on `threads`. `step` and `run` release the interpreter while they
-/// work, in slices of about 10 ms: other Python threads run meanwhile, and Ctrl-C raises
-/// `KeyboardInterrupt` within a slice, leaving the simulation valid at the step it reached.
-///
-/// Units: m, s, kg; angles in radians. Frame: z up, gravity along −z.
-#[pyclass(module = "spraysim", name = "Simulation")]
-pub struct PySimulation {
-    pub(crate) held: Held,
+/// What a simulation's calls work on, one thread at a time.
+pub(crate) struct State {
+    pub held: Held,
     /// Simulations replaced by `restore` while arrays still viewed their memory.
     retired: Vec<Held>,
+}
+
+/// What a simulation's calls only read or swap, each for an instant.
+struct Setup {
     scenario: Scenario,
     threads: usize,
     /// The worker pool its slices run on (None: rayon's global pool); the engine's own pool is
     /// left unset, so that its parallel stages run on this one.
     pool: Option<Arc<rayon::ThreadPool>>,
+}
+
+/// A running simulation of a scenario.
+///
+/// `Simulation(scenario=None, threads=0)`: `scenario` is a `Scenario`, a `dict`, a file path or
+/// None (the default scene); `threads` is the number of worker threads (0: one per core, at most
+/// `spraysim::max_threads()`). Results do not depend on `threads`. `step` and `run` release the
+/// interpreter while they work, in slices of about 10 ms: other Python threads run meanwhile,
+/// and Ctrl-C raises `KeyboardInterrupt` within a slice, leaving the simulation valid at the
+/// step it reached.
+///
+/// Thread-safe: calls from several threads take turns, a call waiting (with the interpreter
+/// released) until another thread's call on the same simulation has returned. A callback of a
+/// call (`run`'s `progress`) cannot use its simulation: that raises `RuntimeError`.
+///
+/// Units: m, s, kg; angles in radians. Frame: z up, gravity along −z.
+#[pyclass(module = "spraysim", name = "Simulation", frozen)]
+pub struct PySimulation {
+    state: Exclusive<State>,
+    setup: Mutex<Setup>,
 }
 
 /// A saved state of a `Simulation` (`Simulation.snapshot()`): `Simulation.restore` continues
@@ -80,122 +98,164 @@ fn steps_for(until: f64, dt: f64) -> PyResult<u64> {
     Ok((until / dt - 1e-9).ceil().max(0.0) as u64)
 }
 
+impl PySimulation {
+    fn build(
+        sim: Simulation,
+        scenario: Scenario,
+        threads: Threads,
+        pool: Option<Arc<rayon::ThreadPool>>,
+    ) -> Self {
+        PySimulation {
+            state: Exclusive::new(State { held: Held::new(sim), retired: Vec::new() }, "this Simulation"),
+            setup: Mutex::new(Setup { scenario, threads: threads.0, pool }),
+        }
+    }
+
+    /// This thread's turn with the simulation: waits for another thread's call to return.
+    pub(crate) fn lock(&self, py: Python<'_>) -> PyResult<Turn<'_, State>> {
+        self.state.lock(py)
+    }
+
+    /// The scenario, threads and pool, for an instant.
+    fn setup(&self, py: Python<'_>) -> MutexGuard<'_, Setup> {
+        // Held only to read or swap a field, never across a call: a panic cannot leave it
+        // half-written.
+        self.setup.lock_py_attached(py).unwrap_or_else(PoisonError::into_inner)
+    }
+
+    fn pool(&self, py: Python<'_>) -> Option<Arc<rayon::ThreadPool>> {
+        self.setup(py).pool.clone()
+    }
+
+    /// Reads the simulation on this thread's turn.
+    fn read<T>(&self, py: Python<'_>, f: impl FnOnce(&Simulation) -> T) -> PyResult<T> {
+        Ok(f(&self.lock(py)?.held.sim))
+    }
+}
+
 #[pymethods]
 impl PySimulation {
     #[new]
-    #[pyo3(signature = (scenario = None, threads = 0))]
-    fn new(py: Python<'_>, scenario: Option<&Bound<'_, PyAny>>, threads: usize) -> PyResult<Self> {
+    #[pyo3(
+        signature = (scenario = None, threads = Threads::PER_CORE),
+        text_signature = "(scenario=None, threads=0)"
+    )]
+    fn new(py: Python<'_>, scenario: Option<&Bound<'_, PyAny>>, threads: Threads) -> PyResult<Self> {
         let scenario = scenario_from(py, scenario)?;
-        let sim = Simulation::new(scenario.config()).map_err(|e| setup_error(&e))?;
         let pool = work::pool(threads)?;
-        Ok(PySimulation { held: Held::new(sim), retired: Vec::new(), scenario, threads, pool })
+        let sim = Simulation::new(scenario.config()).map_err(|e| setup_error(&e))?;
+        Ok(PySimulation::build(sim, scenario, threads, pool))
     }
 
     /// Advances the simulation by `n` time steps Δt (also past the configured duration).
     #[pyo3(signature = (n = 1))]
-    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let until = self.held.sim.steps_done().saturating_add(n);
-        work::run_to(py, &mut self.held.sim, self.pool.as_deref(), until, |_| Ok(()))
+    fn step(&self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let pool = self.pool(py);
+        let mut state = self.lock(py)?;
+        let until = state.held.sim.steps_done().saturating_add(n);
+        work::run_to(py, &mut state.held.sim, pool.as_deref(), until, |_| Ok(()))
     }
 
     /// Runs until simulated time reaches `until` (s; the configured duration when None).
     /// `progress=True` prints the simulated time to standard error as it goes; a callable is
-    /// called as `progress(time_s, until_s)` about every 10 ms.
+    /// called as `progress(time_s, until_s)` about every 10 ms (it cannot use this simulation,
+    /// which is busy with the run).
     #[pyo3(signature = (until = None, progress = None))]
-    fn run(
-        &mut self,
-        py: Python<'_>,
-        until: Option<f64>,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let dt = self.held.sim.config().dt;
+    fn run(&self, py: Python<'_>, until: Option<f64>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let pool = self.pool(py);
+        let mut state = self.lock(py)?;
+        let sim = &mut state.held.sim;
+        let dt = sim.config().dt;
         let steps = match until {
             Some(t) => steps_for(t, dt)?,
-            None => self.held.sim.total_steps(),
+            None => sim.total_steps(),
         };
         let end = steps as f64 * dt;
         let report = progress::Report::new(py, progress, end)?;
-        work::run_to(py, &mut self.held.sim, self.pool.as_deref(), steps, |s| report.tick(py, s.time()))?;
-        report.finish(py, self.held.sim.time())
+        work::run_to(py, sim, pool.as_deref(), steps, |s| report.tick(py, s.time()))?;
+        report.finish(py, sim.time())
     }
 
     /// Simulated time, s.
     #[getter]
-    fn time(&self) -> f64 {
-        self.held.sim.time()
+    fn time(&self, py: Python<'_>) -> PyResult<f64> {
+        self.read(py, Simulation::time)
     }
 
     /// Steps taken so far.
     #[getter]
-    fn steps_done(&self) -> u64 {
-        self.held.sim.steps_done()
+    fn steps_done(&self, py: Python<'_>) -> PyResult<u64> {
+        self.read(py, Simulation::steps_done)
     }
 
     /// Steps the configured duration takes.
     #[getter]
-    fn total_steps(&self) -> u64 {
-        self.held.sim.total_steps()
+    fn total_steps(&self, py: Python<'_>) -> PyResult<u64> {
+        self.read(py, Simulation::total_steps)
     }
 
     /// Time step Δt, s.
     #[getter]
-    fn dt(&self) -> f64 {
-        self.held.sim.config().dt
+    fn dt(&self, py: Python<'_>) -> f64 {
+        self.setup(py).scenario.simulation().dt
     }
 
     /// Configured duration, s.
     #[getter]
-    fn duration(&self) -> f64 {
-        self.held.sim.config().duration
+    fn duration(&self, py: Python<'_>) -> f64 {
+        self.setup(py).scenario.simulation().duration
     }
 
     /// True once the configured duration has been simulated.
     #[getter]
-    fn is_finished(&self) -> bool {
-        self.held.sim.is_finished()
+    fn is_finished(&self, py: Python<'_>) -> PyResult<bool> {
+        self.read(py, Simulation::is_finished)
     }
 
-    /// Worker threads of the update stage (0: one per core); results do not depend on it.
+    /// Worker threads of the update stage (0: one per core, at most `spraysim::max_threads()`);
+    /// results do not depend on it.
     #[getter]
-    fn get_threads(&self) -> usize {
-        self.threads
+    fn get_threads(&self, py: Python<'_>) -> usize {
+        self.setup(py).threads
     }
 
     #[setter]
-    fn set_threads(&mut self, threads: usize) -> PyResult<()> {
-        self.pool = work::pool(threads)?;
-        self.threads = threads;
+    fn set_threads(&self, py: Python<'_>, threads: Threads) -> PyResult<()> {
+        let pool = work::pool(threads)?;
+        let mut setup = self.setup(py);
+        setup.pool = pool;
+        setup.threads = threads.0;
         Ok(())
     }
 
     /// The scenario being simulated.
     #[getter]
-    fn scenario(&self) -> PyScenario {
-        PyScenario { inner: self.scenario.clone() }
+    fn scenario(&self, py: Python<'_>) -> PyScenario {
+        PyScenario { inner: self.setup(py).scenario.clone() }
     }
 
     /// The targets' names, in scenario order.
     #[getter]
-    fn target_names(&self) -> Vec<String> {
-        self.held.sim.targets().iter().map(|t| t.name.clone()).collect()
+    fn target_names(&self, py: Python<'_>) -> Vec<String> {
+        self.setup(py).scenario.targets().iter().map(|t| t.name.clone()).collect()
     }
 
     /// Particles emitted so far: `(count, volume in m³)`.
-    fn emitted(&self) -> (u64, f64) {
-        let e = self.held.sim.tally().emitted;
-        (e.count, e.volume)
+    fn emitted(&self, py: Python<'_>) -> PyResult<(u64, f64)> {
+        let e = self.read(py, |s| s.tally().emitted)?;
+        Ok((e.count, e.volume))
     }
 
     /// The results so far as a dictionary equal to what `metrics.json` holds (keys, units and
     /// values; see the README's Outputs section), less its `files` manifest.
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        convert::json_to_py(py, &self.metrics_json()?)
+        convert::json_to_py(py, &self.metrics_json(py)?)
     }
 
     /// The text `metrics.json` would hold now, without the `files` manifest that only a
     /// written set of outputs has.
-    fn metrics_json(&self) -> PyResult<String> {
-        spraysim::output::metrics_json(&self.held.sim).map_err(|e| output_error(&e))
+    fn metrics_json(&self, py: Python<'_>) -> PyResult<String> {
+        self.read(py, spraysim::output::metrics_json)?.map_err(|e| output_error(&e))
     }
 
     /// Writes every output (`metrics.json`, `.npy` arrays, heatmaps, `scenario.resolved.toml`)
@@ -203,16 +263,19 @@ impl PySimulation {
     /// DIRECTORY` does, all or nothing. Returns the paths written.
     #[pyo3(signature = (directory = None))]
     fn write_outputs(&self, py: Python<'_>, directory: Option<std::path::PathBuf>) -> PyResult<Vec<String>> {
+        let state = self.lock(py)?;
+        let scenario = self.setup(py).scenario.clone();
         // As the command does: the resolved scenario names the directory it was written to.
         let scenario = match &directory {
-            Some(d) => self
-                .scenario
-                .with("output.directory", d.display().to_string())
-                .map_err(|e| crate::errors::scenario_error(py, &e))?,
-            None => self.scenario.clone(),
+            Some(d) => scenario.with("output.directory", d.display().to_string()).map_err(|e| {
+                let called =
+                    format!("Simulation.write_outputs(directory={})", py_repr(py, &d.display().to_string()));
+                scenario_error(py, &relocated(e, |_| called.clone()))
+            })?,
+            None => scenario,
         };
         let dir = std::path::PathBuf::from(&scenario.output().directory);
-        let sim = &self.held.sim;
+        let sim = &state.held.sim;
         let files = py
             .detach(|| spraysim::output::write_outputs(sim, &scenario, &dir))
             .map_err(|e| output_error(&e))?;
@@ -220,68 +283,70 @@ impl PySimulation {
     }
 
     /// Saves the present state; `restore` continues from it exactly as this simulation would.
-    fn snapshot(&self) -> PySnapshot {
-        PySnapshot { sim: self.held.sim.clone(), scenario: self.scenario.clone() }
+    fn snapshot(&self, py: Python<'_>) -> PyResult<PySnapshot> {
+        let sim = self.read(py, Simulation::clone)?;
+        Ok(PySnapshot { sim, scenario: self.setup(py).scenario.clone() })
     }
 
     /// Returns to a saved state (of this simulation or another one). Arrays taken earlier with
     /// `copy=False` keep showing the state they were taken from.
-    fn restore(&mut self, snapshot: &Bound<'_, PySnapshot>) -> PyResult<()> {
+    fn restore(&self, py: Python<'_>, snapshot: &Bound<'_, PySnapshot>) -> PyResult<()> {
         let s = snapshot.get();
-        let old = std::mem::replace(&mut self.held, Held::new(s.sim.clone()));
-        self.scenario = s.scenario.clone();
+        let mut state = self.lock(py)?;
+        let old = std::mem::replace(&mut state.held, Held::new(s.sim.clone()));
+        self.setup(py).scenario = s.scenario.clone();
         // Arrays still viewing the old state keep it alive; the others let it go.
-        self.retired.push(old);
-        self.retired.retain(|h| Arc::strong_count(&h.views) > 1);
+        state.retired.push(old);
+        state.retired.retain(|h| Arc::strong_count(&h.views) > 1);
         Ok(())
     }
 
     /// An independent copy that continues exactly as this one would.
-    fn copy(&self) -> PySimulation {
-        PySimulation {
-            held: Held::new(self.held.sim.clone()),
-            retired: Vec::new(),
-            scenario: self.scenario.clone(),
-            threads: self.threads,
-            pool: self.pool.clone(),
-        }
+    fn copy(&self, py: Python<'_>) -> PyResult<PySimulation> {
+        let sim = self.read(py, Simulation::clone)?;
+        let setup = self.setup(py);
+        let copy =
+            PySimulation::build(sim, setup.scenario.clone(), Threads(setup.threads), setup.pool.clone());
+        Ok(copy)
     }
 
-    fn __copy__(&self) -> PySimulation {
-        self.copy()
+    fn __copy__(&self, py: Python<'_>) -> PyResult<PySimulation> {
+        self.copy(py)
     }
 
-    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> PySimulation {
-        self.copy()
+    fn __deepcopy__(&self, py: Python<'_>, _memo: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
+        self.copy(py)
     }
 
-    fn __repr__(&self) -> String {
-        let s = &self.held.sim;
-        format!(
-            "Simulation(scenario={:?}, time={:.6} s of {} s, steps_done={}, in_flight={})",
-            self.scenario.origin(),
-            s.time(),
-            s.config().duration,
-            s.steps_done(),
-            s.swarm().alive()
-        )
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let origin = self.setup(py).scenario.origin().to_string();
+        self.read(py, |s| {
+            format!(
+                "Simulation(scenario={origin:?}, time={:.6} s of {} s, steps_done={}, in_flight={})",
+                s.time(),
+                s.config().duration,
+                s.steps_done(),
+                s.swarm().alive()
+            )
+        })
     }
 
     /// The particles in flight, as numpy arrays of one row per particle: `position` (n, 3) m,
     /// `velocity` (n, 3) m/s, `age` (n,) s since emission, `id` (n,) emission index, `impacts`
     /// (n,) impacts so far, `state` (n,) status bits (`ALIVE | HIT_SUBSTRATE | RELEASED`).
     fn particles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        views::particles(py, &self.held.sim)
+        views::particles(py, &self.lock(py)?.held.sim)
     }
 
-    /// Deposited thickness on a target (name or index), m. On a rectangle a (rows, cols)
-    /// float64 array: row 0 is the target's bottom edge (rows grow along its `up`), columns grow
-    /// along `right` = `up × normal` (the viewer's right, looking at the target from the spray
-    /// side): plot it with `origin="lower"`. On a cylinder shell the unrolled (along the axis,
-    /// around it) map; on a mesh one value per triangle, in the file's order. With
-    /// `copy=False` (the default) a read-only view of the simulation's own memory, no copy: it
-    /// shows later steps as they happen (do not read it while another thread runs this
-    /// simulation); `copy=True` gives an independent array.
+    /// Deposited thickness on a target (name, or index from 0), m. On a rectangle a (rows,
+    /// cols) float64 array: row 0 is the target's bottom edge (rows grow along its `up`),
+    /// columns grow along `right` = `up × normal` (the viewer's right, looking at the target
+    /// from the spray side): plot it with `origin="lower"`. On a cylinder shell the unrolled
+    /// (along the axis, around it) map; on a mesh one value per triangle, in the file's order.
+    /// With `copy=False` (the default) a read-only view of the simulation's own memory, no copy:
+    /// it shows later steps as they happen (do not read it while another thread runs this
+    /// simulation); `copy=True` gives an independent array. An unknown name raises `KeyError`, a
+    /// negative or too large index `IndexError`, both listing the targets.
     #[pyo3(signature = (target, copy = false))]
     fn thickness<'py>(
         slf: &Bound<'py, Self>,
@@ -291,8 +356,8 @@ impl PySimulation {
         views::grid(slf, target, copy, |t| t.surface.thickness())
     }
 
-    /// Impacts per cell (stuck or rebounded) on a target: a uint32 array laid out
-    /// as `thickness`, with the same `copy` choice.
+    /// Impacts per cell (stuck or rebounded) on a target (name or index): a uint32 array laid
+    /// out as `thickness`, with the same `copy` choice.
     #[pyo3(signature = (target, copy = false))]
     fn hits<'py>(
         slf: &Bound<'py, Self>,
@@ -302,55 +367,65 @@ impl PySimulation {
         views::grid(slf, target, copy, |t| t.surface.hits())
     }
 
-    /// Eroded depth per cell on a target, m, laid out as `thickness` (a copy), or None when
-    /// the process erodes nothing.
+    /// Eroded depth per cell on a target (name or index), m, laid out as `thickness` (a copy),
+    /// or None when the process erodes nothing.
     fn erosion<'py>(
         &self,
         py: Python<'py>,
         target: &Bound<'py, PyAny>,
     ) -> PyResult<Option<Bound<'py, PyAny>>> {
-        views::erosion(py, &self.held.sim, target)
+        views::erosion(py, &self.lock(py)?.held.sim, target)
     }
 
-    /// A target's geometry: `name`, `role`, `rows`, `cols`, `cell_size` (width, height) m,
-    /// `size` (width, height) m, and unit vectors `normal`, `up`, `right` and the `center` (m)
-    /// as numpy arrays.
+    /// A target's geometry (name or index): `name`, `role`, `rows`, `cols`, `cell_size` (width,
+    /// height) m, `size` (width, height) m, and unit vectors `normal`, `up`, `right` and the
+    /// `center` (m) as numpy arrays.
     fn target_info<'py>(&self, py: Python<'py>, target: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
-        views::target_info(py, &self.held.sim, target)
+        views::target_info(py, &self.lock(py)?.held.sim, target)
     }
 
     /// The nozzle now: `position` (m), unit `axis`, `velocity` (m/s) as numpy arrays, and
     /// `spraying` (bool).
     fn nozzle<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        nozzle::pose(py, &self.held.sim)
+        nozzle::pose(py, &self.lock(py)?.held.sim)
     }
 
-    /// Holds the nozzle at `position` (m) spraying along `axis` (unit vector; the present axis
+    /// Holds the nozzle at `position` (m, three finite numbers within ±10⁴ m, as in scenario
+    /// files) spraying along `axis` (a finite, non-zero vector, normalised; the present axis
     /// when None) from the next step on, spraying or not as `spray` says (closed-loop control).
     #[pyo3(signature = (position, axis = None, spray = true))]
     fn set_nozzle(
-        &mut self,
+        &self,
+        py: Python<'_>,
         position: &Bound<'_, PyAny>,
         axis: Option<&Bound<'_, PyAny>>,
         spray: bool,
     ) -> PyResult<()> {
-        nozzle::hold(&mut self.held.sim, position, axis, spray)
+        let pose = nozzle::Pose::read(position, axis)?;
+        nozzle::hold(&mut self.lock(py)?.held.sim, pose, spray)
     }
 
     /// Replaces the nozzle's path from the next step on. `waypoints` is a list of dicts (or
     /// tuples in this order) with `time` (s, absolute simulated time, strictly increasing),
-    /// `position` (m), `axis` (unit vector) and optionally `spray` (default True: spray from
-    /// this waypoint until the next). Position is interpolated linearly, the axis spherically;
-    /// before the first and after the last waypoint the nozzle holds that pose. `roll` (rad)
-    /// turns the aperture about the axis (the present roll when None).
+    /// `position` (m, within ±10⁴ m), `axis` (a non-zero vector, normalised) and optionally
+    /// `spray` (default True: spray from this waypoint until the next); other keys are refused.
+    /// Position is interpolated linearly, the axis spherically; before the first and after the
+    /// last waypoint the nozzle holds that pose. `roll` (rad) turns the aperture about the axis
+    /// (the present roll when None).
     #[pyo3(signature = (waypoints, roll = None))]
-    fn set_nozzle_path(&mut self, waypoints: &Bound<'_, PyAny>, roll: Option<f64>) -> PyResult<()> {
-        nozzle::set_path(&mut self.held.sim, waypoints, roll)
+    fn set_nozzle_path(
+        &self,
+        py: Python<'_>,
+        waypoints: &Bound<'_, PyAny>,
+        roll: Option<f64>,
+    ) -> PyResult<()> {
+        let list = nozzle::read_path(waypoints, roll)?;
+        nozzle::set_path(&mut self.lock(py)?.held.sim, list, roll)
     }
 
     /// The nozzle's path: a list of waypoint dicts (`time`, `position`, `axis`, `spray`).
     fn nozzle_waypoints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyList>> {
-        nozzle::waypoints(py, &self.held.sim)
+        nozzle::waypoints(py, &self.lock(py)?.held.sim)
     }
 }
 

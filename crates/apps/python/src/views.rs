@@ -9,9 +9,9 @@
 use crate::simulation::PySimulation;
 use numpy::ndarray::{ArrayViewD, IxDyn};
 use numpy::{Element, PyArray1, PyArrayDyn, PyArrayMethods, ToPyArray};
-use pyo3::exceptions::{PyIndexError, PyKeyError};
+use pyo3::exceptions::{PyIndexError, PyKeyError, PyOverflowError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 use spraysim::Simulation;
 use spraysim::deposit::{DepositSurface, Layout, Surface};
 use spraysim::world::{Role, Target};
@@ -24,21 +24,37 @@ pub struct ViewOwner {
     _views: Arc<()>,
 }
 
-/// Index of the target named by `target` (a name or an index).
+/// Index of the target named by `target`: a name (`str`), or an index from 0 (any integer,
+/// numpy's included). An unknown name raises `KeyError`, a negative or too large index
+/// `IndexError`, anything else `TypeError`; each lists the targets.
 pub fn target_index(sim: &Simulation, target: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let count = sim.targets().len();
     let names = || sim.targets().iter().map(|t| t.name.as_str()).collect::<Vec<_>>().join(", ");
-    if let Ok(i) = target.extract::<usize>() {
-        return if i < sim.targets().len() {
-            Ok(i)
-        } else {
-            Err(PyIndexError::new_err(format!("no target {i}: the targets are {}", names())))
-        };
+    let choices = || format!("give an index from 0 to {} or a name ({})", count.saturating_sub(1), names());
+    if target.is_instance_of::<PyString>() {
+        let name: String = target.extract()?;
+        return sim.targets().iter().position(|t| t.name == name).ok_or_else(|| {
+            PyKeyError::new_err(format!("no target named {name:?}: the targets are {}", names()))
+        });
     }
-    let name: String = target.extract()?;
-    sim.targets()
-        .iter()
-        .position(|t| t.name == name)
-        .ok_or_else(|| PyKeyError::new_err(format!("no target named {name:?}: the targets are {}", names())))
+    match target.extract::<i64>() {
+        Ok(i) if i < 0 => Err(PyIndexError::new_err(format!(
+            "target index {i} is negative (indices count from 0): {}",
+            choices()
+        ))),
+        Ok(i) => match usize::try_from(i) {
+            Ok(i) if i < count => Ok(i),
+            _ => Err(PyIndexError::new_err(format!("no target {i}: there are {count}; {}", choices()))),
+        },
+        Err(e) if e.is_instance_of::<PyOverflowError>(target.py()) => {
+            Err(PyIndexError::new_err(format!("no target {target}: there are {count}; {}", choices())))
+        }
+        Err(_) => Err(PyTypeError::new_err(format!(
+            "`target` must be a target's name (str) or index (int), got {}: {}",
+            crate::args::type_name(target),
+            choices()
+        ))),
+    }
 }
 
 /// The shape of a target's maps: `[rows, cols]` on a grid (a rectangle, a shell unrolled),
@@ -58,16 +74,18 @@ pub fn grid<'py, T: Element + Copy>(
     data: impl Fn(&Target) -> &[T],
 ) -> PyResult<Bound<'py, PyAny>> {
     let py = slf.py();
-    // Refused (RuntimeError) while another thread runs this simulation.
-    let this = slf.try_borrow()?;
-    let t = &this.held.sim.targets()[target_index(&this.held.sim, target)?];
+    let this = slf.get();
+    // Waits while another thread's call runs this simulation; refused (RuntimeError) from a
+    // callback of its own call.
+    let state = this.lock(py)?;
+    let t = &state.held.sim.targets()[target_index(&state.held.sim, target)?];
     let view = ArrayViewD::from_shape(shape(t), data(t))
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("target {}: {e}", t.name)))?;
     if copy {
         return Ok(view.to_pyarray(py).into_any());
     }
-    let owner = Bound::new(py, ViewOwner { _owner: slf.clone().unbind(), _views: this.held.views.clone() })?;
-    // SAFETY: the storage viewed belongs to the engine state in `this.held`, which lives until
+    let owner = Bound::new(py, ViewOwner { _owner: slf.clone().unbind(), _views: state.held.views.clone() })?;
+    // SAFETY: the storage viewed belongs to the engine state in `state.held`, which lives until
     // the simulation does (the owner keeps it alive) or, once replaced by `restore`, for as
     // long as the token cloned into the owner is counted; deposit surfaces allocate their maps
     // once and write them in place, so the pointer stays valid.

@@ -8,9 +8,12 @@
 //! and runs its parallel stages there, instead of handing every step over to the pool and
 //! waiting for it (which costs tens of microseconds a step).
 
+use crate::args::Threads;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use spraysim::Simulation;
+use spraysim::{SetupError, Simulation, SimulationConfig};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 /// How long work runs detached before the thread re-attaches to look for signals.
@@ -57,30 +60,93 @@ pub fn run_to(
 
 /// A pool of `threads` worker threads, or None for rayon's global pool (one per core) when
 /// `threads` is 0.
-pub fn pool(threads: usize) -> PyResult<Option<std::sync::Arc<rayon::ThreadPool>>> {
+pub fn pool(threads: Threads) -> PyResult<Option<Arc<rayon::ThreadPool>>> {
+    let Threads(threads) = threads;
     if threads == 0 {
         return Ok(None);
     }
+    // Checked when the argument was read; checked again here, before any thread starts.
+    spraysim::check_threads(threads).map_err(|e| PyValueError::new_err(format!("`threads`: {e}")))?;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| {
-        pyo3::exceptions::PyValueError::new_err(format!("cannot start {threads} worker threads: {e}"))
+        PyValueError::new_err(format!("`threads`: cannot start {threads} worker threads: {e}"))
     })?;
-    Ok(Some(std::sync::Arc::new(pool)))
+    Ok(Some(Arc::new(pool)))
 }
 
-/// Runs every simulation to its end on `pool` (rayon's global pool when None), detached, in
-/// rounds of about one [`SLICE`] in which each unfinished simulation takes at least one step.
-/// Signals raise between rounds.
-pub fn run_all(py: Python<'_>, sims: &mut [Simulation], pool: Option<&rayon::ThreadPool>) -> PyResult<()> {
-    while sims.iter().any(|s| !s.is_finished()) {
-        let round = || {
+/// The worker threads of `pool` (rayon's global pool when None).
+pub fn workers(pool: Option<&rayon::ThreadPool>) -> usize {
+    pool.map_or_else(rayon::current_num_threads, rayon::ThreadPool::current_num_threads)
+}
+
+/// Runs simulations of `configs` to their ends on `pool` (rayon's global pool when None),
+/// detached, with at most `at_once` of them built and alive at a time: each is built when a
+/// worker frees, and once finished, `finish` takes its result (detached) and it is dropped.
+/// Between rounds of about one [`SLICE`], attached, `deliver` receives each result finished
+/// meanwhile with the index of its config (or why its simulation could not be built), and
+/// signals raise. A simulation's result does not depend on `at_once`, the pool or the rounds.
+pub fn run_stream<R: Send>(
+    py: Python<'_>,
+    configs: Vec<SimulationConfig>,
+    at_once: usize,
+    pool: Option<&rayon::ThreadPool>,
+    finish: impl Fn(&Simulation) -> R + Sync,
+    mut deliver: impl FnMut(usize, Result<R, SetupError>) -> PyResult<()>,
+) -> PyResult<()> {
+    let queue = Mutex::new(configs.into_iter().enumerate());
+    let done = Mutex::new(Vec::new());
+    let mut slots: Vec<Option<(usize, Simulation)>> = (0..at_once.max(1)).map(|_| None).collect();
+    loop {
+        let round = |slots: &mut [Option<(usize, Simulation)>]| {
             let deadline = Instant::now() + SLICE;
-            sims.par_iter_mut().for_each(|s| {
-                let end = s.total_steps();
-                steps_until(s, end, deadline);
-            });
+            slots.par_iter_mut().for_each(|slot| work_slot(slot, &queue, &done, &finish, deadline));
         };
-        py.detach(|| on_pool(pool, round));
+        py.detach(|| on_pool(pool, || round(&mut slots)));
+        let finished = std::mem::take(&mut *done.lock().unwrap_or_else(PoisonError::into_inner));
+        for (index, result) in finished {
+            deliver(index, result)?;
+        }
         py.check_signals()?;
+        let idle = slots.iter().all(Option::is_none);
+        if idle && queue.lock().unwrap_or_else(PoisonError::into_inner).len() == 0 {
+            return Ok(());
+        }
     }
-    Ok(())
+}
+
+/// The configs still to run, with their indices.
+type Queue = Mutex<std::iter::Enumerate<std::vec::IntoIter<SimulationConfig>>>;
+
+/// Works on one slot of [`run_stream`] until `deadline`: steps its simulation, and when it
+/// finishes (or the slot is empty) builds the next one from `queue`.
+fn work_slot<R>(
+    slot: &mut Option<(usize, Simulation)>,
+    queue: &Queue,
+    done: &Mutex<Vec<(usize, Result<R, SetupError>)>>,
+    finish: &(impl Fn(&Simulation) -> R + Sync),
+    deadline: Instant,
+) {
+    let report = |index: usize, result: Result<R, SetupError>| {
+        done.lock().unwrap_or_else(PoisonError::into_inner).push((index, result));
+    };
+    loop {
+        if slot.is_none() {
+            let next = queue.lock().unwrap_or_else(PoisonError::into_inner).next();
+            let Some((index, config)) = next else { return };
+            match Simulation::new(config) {
+                Ok(sim) => *slot = Some((index, sim)),
+                Err(e) => return report(index, Err(e)),
+            }
+        }
+        let Some((index, sim)) = slot.as_mut() else { return };
+        let end = sim.total_steps();
+        steps_until(sim, end, deadline);
+        if sim.steps_done() >= end {
+            report(*index, Ok(finish(sim)));
+            // The simulation goes now, before the next one is built.
+            *slot = None;
+        }
+        if Instant::now() >= deadline {
+            return;
+        }
+    }
 }
