@@ -3,7 +3,7 @@
 //! path is replaced mid-run, and a snapshot continues exactly as the original.
 
 use glam::DVec3;
-use spraysim_engine::collision::{Aabb, Arc, Face, Hit, Primitive, Shape};
+use spraysim_engine::collision::{Aabb, Face, Flight, Hit, Primitive, Shape};
 use spraysim_engine::config::{ObstacleConfig, SimulationConfig};
 use spraysim_engine::deposit::{DepositSurface, RectangleSurface, Surface};
 use spraysim_engine::emission::{NozzlePath, Waypoint};
@@ -12,7 +12,7 @@ use spraysim_engine::process::rebound::PolynomialRebound;
 use spraysim_engine::process::{ImpactSite, ReboundLaw};
 use spraysim_engine::world::Role;
 use spraysim_engine::{Simulation, config};
-use std::sync::Arc as Shared;
+use std::sync::Arc;
 
 /// A rebound law of our own: every impact steeper than `critical` (rad from the normal)
 /// rebounds, every other sticks.
@@ -52,7 +52,7 @@ impl Primitive for Ledge {
         self.at(p0.lerp(p1, t), t, d0 > 0.0)
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         // z(τ) = z₀ + v τ + ½ g τ² = ledge height: the first root in (0, T].
         let (a, b, c) = (0.5 * arc.g.z, arc.v0.z, arc.x0.z - self.z);
         let roots = spraysim_engine::collision::roots(&[c, b, a], 0.0, arc.duration);
@@ -68,7 +68,7 @@ impl Primitive for Ledge {
 
 /// Particles sprayed straight down from 1 m onto a floor, through a ledge 0.5 m up that covers
 /// the left half of the spray, with the threshold law on the floor.
-fn scene(law: Shared<dyn ReboundLaw>, duration: f64) -> SimulationConfig {
+fn scene(law: Arc<dyn ReboundLaw>, duration: f64) -> SimulationConfig {
     let mut c = SimulationConfig::example_wall(duration);
     c.nozzle = NozzlePath::fixed(DVec3::new(0.0, 0.0, 1.0), DVec3::NEG_Z, 0.0);
     c.emitter.cone_half_angle = 20f64.to_radians();
@@ -82,7 +82,7 @@ fn scene(law: Shared<dyn ReboundLaw>, duration: f64) -> SimulationConfig {
     let ledge = Ledge { z: 0.5, half: 0.05 };
     c.obstacles.push(ObstacleConfig {
         name: "ledge".into(),
-        shapes: vec![Shape::Custom(Shared::new(ledge))],
+        shapes: vec![Shape::Custom(Arc::new(ledge))],
         impact: c.targets[0].impact.clone(),
     });
     c.domain = Aabb { min: DVec3::splat(-2.0), max: DVec3::splat(2.0) };
@@ -92,7 +92,7 @@ fn scene(law: Shared<dyn ReboundLaw>, duration: f64) -> SimulationConfig {
 #[test]
 fn a_rebound_law_and_an_obstacle_shape_from_outside_the_engine_run_in_a_scene() {
     // Nothing is steeper than 30° here, so the threshold law makes every impact stick.
-    let law = Shared::new(Threshold { critical: 30f64.to_radians() });
+    let law = Arc::new(Threshold { critical: 30f64.to_radians() });
     let mut sim = Simulation::new(scene(law, 0.2)).expect("valid");
     sim.run(|_| {});
     let m = sim.metrics();
@@ -122,7 +122,7 @@ fn a_rebound_law_and_an_obstacle_shape_from_outside_the_engine_run_in_a_scene() 
     let floor = &sim.targets()[0].surface;
     assert!(floor.thickness()[floor.cell_at(0, DVec3::new(0.0, 0.0, 0.0)) as usize] == 0.0);
     // The same scene with every impact rebounding (threshold 0): the law really is consulted.
-    let always = Shared::new(Threshold { critical: -1.0 });
+    let always = Arc::new(Threshold { critical: -1.0 });
     let mut sim = Simulation::new(scene(always, 0.2)).expect("valid");
     sim.run(|_| {});
     assert_eq!(sim.metrics().rebound_ratio, Some(1.0));
@@ -153,7 +153,7 @@ impl EventHandler for Watcher {
 
 #[test]
 fn an_event_handler_sees_every_impact_in_the_same_order_whatever_the_threads() {
-    let law: Shared<dyn ReboundLaw> = Shared::new(PolynomialRebound { coefficients: vec![0.3] });
+    let law: Arc<dyn ReboundLaw> = Arc::new(PolynomialRebound { coefficients: vec![0.3] });
     let watch = |threads: usize| {
         let mut sim = Simulation::new(scene(law.clone(), 0.1)).expect("valid");
         sim.set_threads(threads).expect("pool");
@@ -178,7 +178,7 @@ fn an_event_handler_sees_every_impact_in_the_same_order_whatever_the_threads() {
 
 #[test]
 fn the_nozzle_path_can_be_replaced_between_steps() {
-    let law: Shared<dyn ReboundLaw> = Shared::new(Threshold { critical: 1.5 });
+    let law: Arc<dyn ReboundLaw> = Arc::new(Threshold { critical: 1.5 });
     // Spray for 50 ms from above the origin, then 50 ms from 0.7 m to the side, then let
     // everything land.
     let pose = |x: f64, from: f64, until: f64| {
@@ -224,7 +224,7 @@ fn the_nozzle_path_can_be_replaced_between_steps() {
 
 #[test]
 fn a_snapshot_continues_exactly_as_the_original() {
-    let law: Shared<dyn ReboundLaw> = Shared::new(PolynomialRebound { coefficients: vec![0.5] });
+    let law: Arc<dyn ReboundLaw> = Arc::new(PolynomialRebound { coefficients: vec![0.5] });
     let mut sim = Simulation::new(scene(law, 0.12)).expect("valid");
     for _ in 0..40 {
         sim.step();

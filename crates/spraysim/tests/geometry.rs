@@ -369,7 +369,7 @@ fn indexed_scene_query_matches_the_linear_scan() {
 /// Exact arc hits against a reference that walks the arc as 4000 short chords.
 #[test]
 fn arc_hits_match_a_dense_polyline_for_every_primitive() {
-    use spraysim::collision::Arc;
+    use spraysim::collision::Flight;
     const CHORDS: usize = 4000;
     for kind in 0..8 {
         let mut rng = ChaCha8Rng::seed_from_u64(kind as u64 + 500);
@@ -382,7 +382,7 @@ fn arc_hits_match_a_dense_polyline_for_every_primitive() {
             }
             let aim = shape.aabb().map_or(DVec3::ZERO, |b| (b.min + b.max) / 2.0) + rand_vec(&mut rng, 0.4);
             // Strongly curved: the acceleration bends the path by up to a metre over the arc.
-            let arc = Arc {
+            let arc = Flight {
                 x0,
                 v0: (aim - x0) * rng.random_range(0.5..2.0),
                 g: rand_vec(&mut rng, 4.0),

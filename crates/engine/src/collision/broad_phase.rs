@@ -220,7 +220,7 @@ impl Grid {
             if t >= horizon {
                 return horizon;
             }
-            let arc = super::Arc { x0: x + v * t + 0.5 * g * t * t, v0: v + g * t, g, duration: 0.0 };
+            let arc = super::Flight { x0: x + v * t + 0.5 * g * t * t, v0: v + g * t, g, duration: 0.0 };
             let p = arc.x0;
             if !(self.origin.cmple(p).all() && p.cmplt(self.end).all()) {
                 return t;

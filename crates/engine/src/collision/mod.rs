@@ -7,12 +7,12 @@
 //! path that touches it, as a fraction `t ∈ [0, 1]` of the path, with the surface normal facing
 //! the side the particle came from.
 
-mod arc;
 pub(crate) mod broad_phase;
+mod flight;
 mod scene;
 pub mod shapes;
 
-pub use arc::{Arc, Small, roots};
+pub use flight::{Flight, ShortList, roots};
 pub use scene::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
 pub use shapes::{
     Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Primitive, Shape, Sphere, Triangle,

@@ -1,7 +1,7 @@
 //! The set of surfaces a particle can strike, and the query for the earliest one.
 
 use super::broad_phase::Grid;
-use super::{Aabb, Arc, Hit, Primitive, Shape};
+use super::{Aabb, Flight, Hit, Primitive, Shape};
 use glam::DVec3;
 
 /// Margin of the boxes that reject a surface before its exact test, m: keeps the reject
@@ -201,19 +201,19 @@ impl Scene {
 
     /// True if the arc certainly hits nothing (it stays inside one empty neighbourhood).
     #[inline]
-    pub fn arc_is_clear(&self, arc: &Arc) -> bool {
+    pub fn arc_is_clear(&self, arc: &Flight) -> bool {
         self.unbounded.is_empty() && self.grid.box_is_clear(&arc.aabb())
     }
 
     /// Earliest exact hit of a ballistic arc over all surfaces: the surface's index and the hit
     /// (`Hit::t` is the fraction of the arc's duration). Ties go to the surface given first.
-    pub fn first_hit_arc(&self, arc: &Arc) -> Option<(SurfaceId, Hit)> {
+    pub fn first_hit_arc(&self, arc: &Flight) -> Option<(SurfaceId, Hit)> {
         self.first_hit_within(arc, &[arc.aabb()])
     }
 
     /// [`Scene::first_hit_arc`] for an arc held by the boxes `pieces`: only the surfaces near
     /// one of them are solved (a long arc's pieces leave out most of its one box).
-    pub fn first_hit_within(&self, arc: &Arc, pieces: &[Aabb]) -> Option<(SurfaceId, Hit)> {
+    pub fn first_hit_within(&self, arc: &Flight, pieces: &[Aabb]) -> Option<(SurfaceId, Hit)> {
         let mut best: Option<(usize, Hit)> = None;
         let mut test = |i: u32| {
             let i = i as usize;

@@ -2,7 +2,7 @@
 //! them; the cells they cover carry no surface.
 
 use super::Chart;
-use crate::collision::{Aabb, Arc, Hit, Primitive, Shape};
+use crate::collision::{Aabb, Flight, Hit, Primitive, Shape};
 use glam::DVec3;
 
 /// A polygon cut out of a surface, in its unrolled coordinates `(u, v)` (m from the middle).
@@ -94,11 +94,11 @@ impl<C: Chart> Primitive for Perforated<C> {
         None
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         let mut tau0 = 0.0;
         for _ in 0..MAX_PASSES {
             let rest =
-                Arc { x0: arc.at(tau0), v0: arc.velocity(tau0), g: arc.g, duration: arc.duration - tau0 };
+                Flight { x0: arc.at(tau0), v0: arc.velocity(tau0), g: arc.g, duration: arc.duration - tau0 };
             if rest.duration <= 0.0 {
                 return None;
             }
@@ -148,7 +148,7 @@ mod tests {
         assert!(through.is_none(), "the window lets it pass");
         let hit = p.intersect(DVec3::new(-1.0, 0.5, 0.5), DVec3::new(1.0, 0.5, 0.5)).expect("the wall");
         assert!((hit.t - 0.5).abs() < 1e-12);
-        let arc = Arc {
+        let arc = Flight {
             x0: DVec3::new(-1.0, 0.1, 0.1),
             v0: DVec3::new(10.0, 0.0, 0.0),
             g: DVec3::ZERO,

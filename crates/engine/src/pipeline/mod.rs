@@ -37,7 +37,7 @@ use std::sync::Arc;
 
 /// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
 /// the order in which records are applied, never depends on the thread count.
-/// Small enough that a step with few particles awake still splits into enough tasks to keep
+/// ShortList enough that a step with few particles awake still splits into enough tasks to keep
 /// every thread busy: a raster at 10⁵ particles/s has about 11 000 in flight, of which about 800
 /// are awake in a step, most of them in the youngest chunks.
 const CHUNK: usize = 256;
@@ -300,7 +300,7 @@ impl Simulation {
     /// arrays hold its state at the step it wakes: it is brought back to the present in closed
     /// form. Panics if `i` is not a slot of the swarm.
     pub fn particle_now(&self, i: usize) -> (glam::DVec3, glam::DVec3, f64) {
-        use crate::collision::Arc as Flight;
+        use crate::collision::Flight;
         let s = &self.state.swarm;
         let (pos, vel, age) = (s.pos[i], s.vel[i], f64::from(s.age[i]));
         let wake = u64::from(s.wake[i]);

@@ -5,7 +5,7 @@
 
 use super::watch::Watch;
 use super::{CHUNK, Plan, State, Workers};
-use crate::collision::{Aabb, Arc, Hit, SURFACE_OFFSET, Scene, SurfaceId, SurfaceKind};
+use crate::collision::{Aabb, Flight, Hit, SURFACE_OFFSET, Scene, SurfaceId, SurfaceKind};
 use crate::config::SimulationConfig;
 use crate::deposit::{Clearance, DepositSurface, LayerContact};
 use crate::events::{ImpactEvent, sampled};
@@ -290,7 +290,7 @@ impl UpdateContext<'_> {
     fn doze(&self, chunk: &mut SwarmChunk<'_>, i: usize, watch: &mut Vec<Watch>) {
         let (x, v, age) = (chunk.pos[i], chunk.vel[i], f64::from(chunk.age[i]));
         let g = self.motion.gravity;
-        let flight = Arc { x0: x, v0: v, g, duration: 0.0 };
+        let flight = Flight { x0: x, v0: v, g, duration: 0.0 };
         // Every skipped step must keep the particle young enough, clear of every surface and
         // inside the domain.
         let horizon = (self.max_lifetime - age).min(flight.exit_time(&self.domain));
@@ -323,7 +323,7 @@ impl UpdateContext<'_> {
     fn predict(&self, x: DVec3, v: DVec3, horizon: f64, id: u32, watch: &mut Vec<Watch>) -> f64 {
         let g = self.motion.gravity;
         let (shortest, first) = (2.0 * self.dt, watch.len());
-        let arc = |duration: f64| Arc { x0: x, v0: v, g, duration };
+        let arc = |duration: f64| Flight { x0: x, v0: v, g, duration };
         // Most flights that cannot sleep start against a layer: the shortest stretch first.
         let mut span = horizon.min(PREDICT_SPAN);
         if span < shortest || !self.clears_layers(&arc(shortest).aabb(), id, watch) {
@@ -426,7 +426,7 @@ impl UpdateContext<'_> {
     fn is_clear(&self, x: DVec3, v: DVec3, x1: DVec3) -> bool {
         match self.motion.integrator {
             Integrator::Exact => {
-                self.scene.arc_is_clear(&Arc { x0: x, v0: v, g: self.motion.gravity, duration: self.dt })
+                self.scene.arc_is_clear(&Flight { x0: x, v0: v, g: self.motion.gravity, duration: self.dt })
             }
             Integrator::Euler | Integrator::SemiImplicitEuler => self.scene.is_clear(x, x1),
         }
@@ -475,7 +475,7 @@ impl UpdateContext<'_> {
     fn fly_bare(&self, x: DVec3, v: DVec3, x1: DVec3, v1: DVec3, dt: f64) -> Option<(SurfaceId, Hit, DVec3)> {
         match self.motion.integrator {
             Integrator::Exact => {
-                let arc = Arc { x0: x, v0: v, g: self.motion.gravity, duration: dt };
+                let arc = Flight { x0: x, v0: v, g: self.motion.gravity, duration: dt };
                 self.scene.first_hit_arc(&arc).map(|(s, h)| (s, h, arc.velocity(h.t * dt)))
             }
             Integrator::Euler | Integrator::SemiImplicitEuler => self.scene.first_hit(x, x1).map(|(s, h)| {

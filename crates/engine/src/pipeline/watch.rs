@@ -9,7 +9,7 @@
 
 use super::State;
 use crate::checkpoint::{Dec, Enc, StateError};
-use crate::collision::{Aabb, Arc};
+use crate::collision::{Aabb, Flight};
 use crate::config::SimulationConfig;
 use crate::deposit::{DepositSurface, Nodes};
 use crate::particles::Swarm;
@@ -278,12 +278,12 @@ pub(super) fn wake_all(config: &SimulationConfig, state: &mut State) {
 
 /// The rest of sleeping particle `i`'s flight, from step `now` to the step it sleeps until (in
 /// closed form, back from where it sleeps); `None` if it does not sleep past `now`.
-fn rest_of_flight(config: &SimulationConfig, s: &Swarm, i: usize, now: u64) -> Option<Arc> {
+fn rest_of_flight(config: &SimulationConfig, s: &Swarm, i: usize, now: u64) -> Option<Flight> {
     let wake = u64::from(s.wake[i]);
     (wake > now).then(|| {
         let back = (wake - now) as f64 * config.dt;
-        let end = Arc { x0: s.pos[i], v0: s.vel[i], g: config.motion.gravity, duration: 0.0 };
-        Arc { x0: end.at(-back), v0: end.velocity(-back), g: end.g, duration: back }
+        let end = Flight { x0: s.pos[i], v0: s.vel[i], g: config.motion.gravity, duration: 0.0 };
+        Flight { x0: end.at(-back), v0: end.velocity(-back), g: end.g, duration: back }
     })
 }
 
@@ -297,7 +297,7 @@ fn rewind(config: &SimulationConfig, s: &mut Swarm, i: usize, now: u64) {
 }
 
 /// Puts sleeping particle `i` at the start of `rest`, the rest of its flight, awake.
-fn resume(s: &mut Swarm, i: usize, rest: &Arc) {
+fn resume(s: &mut Swarm, i: usize, rest: &Flight) {
     s.pos[i] = rest.x0;
     s.vel[i] = rest.v0;
     s.age[i] = (f64::from(s.age[i]) - rest.duration) as f32;

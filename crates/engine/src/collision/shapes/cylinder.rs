@@ -1,7 +1,7 @@
 //! Solid capped cylinders: rebar, pipes.
 
 use super::{Primitive, entry_root};
-use crate::collision::arc::{Arc, derivative, eval, first_entry, hit_at, roots, squared_norm};
+use crate::collision::flight::{Flight, derivative, eval, first_entry, hit_at, roots, squared_norm};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
@@ -17,7 +17,7 @@ pub struct Cylinder {
 }
 
 /// A lower bound of the distance from the axis of `q(τ) = c₀ + c₁ τ + c₂ τ²` (its component
-/// perpendicular to the axis, see [`Arc::perpendicular`]) over `[0, duration]`, m: the distance
+/// perpendicular to the axis, see [`Flight::perpendicular`]) over `[0, duration]`, m: the distance
 /// of its chord less the most the curve strays from the chord, |c₂| T²/4.
 #[inline]
 fn axis_gap(c: &[DVec3; 3], duration: f64) -> f64 {
@@ -84,7 +84,7 @@ impl Primitive for Cylinder {
         best
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         let (len, u) = self.axis();
         let perp = arc.perpendicular(self.a, u);
         // Every hit, and a start inside, needs the arc within the radius of the axis: most arcs
@@ -121,7 +121,7 @@ impl Cylinder {
     }
 
     /// True if an arc whose component perpendicular to the axis is `perp` (see
-    /// [`Arc::perpendicular`]) stays, over `duration` (s), certainly farther from the axis
+    /// [`Flight::perpendicular`]) stays, over `duration` (s), certainly farther from the axis
     /// than the radius: it can neither hit the bar nor start inside it.
     #[inline]
     fn passes_by(&self, perp: &[DVec3; 3], duration: f64) -> bool {
@@ -132,7 +132,7 @@ impl Cylinder {
     /// of the mantle, the caps' quadratics), without the distance bound that
     /// [`Primitive::intersect_arc`] rejects passing arcs by first; `(len, u)` is
     /// [`Cylinder::axis`] and `perp` the arc's component perpendicular to it.
-    fn solve_arc(&self, arc: &Arc, (len, u): (f64, DVec3), perp: [DVec3; 3]) -> Option<Hit> {
+    fn solve_arc(&self, arc: &Flight, (len, u): (f64, DVec3), perp: [DVec3; 3]) -> Option<Hit> {
         if let Some(h) = super::inside_start(self, arc) {
             return Some(h);
         }
@@ -213,7 +213,7 @@ mod tests {
             let aim = axis * (0.35 * next()) + DVec3::new(next(), next(), next()) * 0.012;
             let speed = 0.5 + 29.5 * (0.5 + 0.5 * next());
             let dir = DVec3::new(next(), next(), next()).normalize();
-            let arc = Arc {
+            let arc = Flight {
                 x0: aim - dir * (0.05 * (0.5 + 0.5 * next())),
                 v0: dir * speed,
                 g,

@@ -2,7 +2,7 @@
 
 use super::Primitive;
 use super::plane::{facing, plane_crossing, plane_hit};
-use crate::collision::arc::Arc;
+use crate::collision::flight::Flight;
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
@@ -29,7 +29,7 @@ impl Primitive for Disk {
         })
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         plane_hit(arc, self.center, self.normal, |q| {
             (q - self.center).length_squared() <= self.radius * self.radius
         })

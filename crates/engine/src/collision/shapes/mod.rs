@@ -28,7 +28,7 @@ pub use sphere::Sphere;
 pub use triangle::Triangle;
 
 use super::Hit;
-use super::arc::Arc;
+use super::flight::Flight;
 use glam::DVec3;
 
 /// What every collidable shape answers. Thin surfaces (plane, face, disk, triangle) are
@@ -41,7 +41,7 @@ pub trait Primitive: Send + Sync + std::fmt::Debug {
 
     /// Earliest hit of a ballistic arc within its duration; `Hit::t` is the fraction of the
     /// duration.
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit>;
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit>;
 
     /// Bounding box, m, or `None` for an unbounded shape (tested on every query).
     fn aabb(&self) -> Option<Aabb>;
@@ -74,7 +74,7 @@ macro_rules! shapes {
                 }
             }
 
-            fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+            fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
                 match self {
                     $( Shape::$variant(s) => s.intersect_arc(arc), )*
                     Shape::Custom(s) => s.intersect_arc(arc),
@@ -146,6 +146,6 @@ pub(crate) fn entry_root(a: f64, b: f64, c: f64) -> Option<f64> {
 }
 
 /// The start-inside case of a solid for arcs: the segment test's push-out, at the arc's start.
-pub(crate) fn inside_start(shape: &dyn Primitive, arc: &Arc) -> Option<Hit> {
+pub(crate) fn inside_start(shape: &dyn Primitive, arc: &Flight) -> Option<Hit> {
     shape.contains(arc.x0).then(|| shape.intersect(arc.x0, arc.x0)).flatten()
 }

@@ -1,7 +1,7 @@
 //! Solid boxes with any orientation.
 
 use super::Primitive;
-use crate::collision::arc::{Arc, derivative, eval, hit_at, roots};
+use crate::collision::flight::{Flight, derivative, eval, hit_at, roots};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
@@ -63,7 +63,7 @@ impl Primitive for OrientedBox {
         Some(Hit { t: t_enter, point: p0 + d * t_enter, normal: self.axes[enter_axis] * enter_sign })
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         if let Some(h) = super::inside_start(self, arc) {
             return Some(h);
         }

@@ -1,7 +1,7 @@
 //! Infinite planes, and the plane crossing every flat shape is built on.
 
 use super::Primitive;
-use crate::collision::arc::{Arc, eval, hit_at, roots};
+use crate::collision::flight::{Flight, eval, hit_at, roots};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
@@ -21,7 +21,7 @@ impl Primitive for Plane {
         Some(Hit { t, point: p0.lerp(p1, t), normal: facing(self.normal, d0) })
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         plane_hit(arc, self.point, self.normal, |_| true)
     }
 
@@ -52,7 +52,7 @@ pub(crate) fn facing(normal: DVec3, d0: f64) -> DVec3 {
 
 /// First crossing of an arc with a (two-sided) plane whose crossing point passes `within`.
 pub(crate) fn plane_hit(
-    arc: &Arc,
+    arc: &Flight,
     point: DVec3,
     normal: DVec3,
     within: impl Fn(DVec3) -> bool,

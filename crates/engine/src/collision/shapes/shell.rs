@@ -2,7 +2,7 @@
 //! to a range of angles.
 
 use super::Primitive;
-use crate::collision::arc::{Arc, derivative, eval, hit_at, roots, squared_norm};
+use crate::collision::flight::{Flight, derivative, eval, hit_at, roots, squared_norm};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 use std::f64::consts::TAU;
@@ -143,7 +143,7 @@ impl Primitive for CylinderShell {
         None
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         let perp = arc.perpendicular(self.center, self.axis);
         let f = squared_norm(perp, self.radius);
         let mut outside = f[0] > 0.0;
@@ -229,7 +229,7 @@ mod tests {
     #[test]
     fn arcs_meet_the_shell_where_segments_do() {
         let s = arch();
-        let arc = Arc {
+        let arc = Flight {
             x0: DVec3::new(0.5, 0.2, 0.0),
             v0: DVec3::new(0.0, 0.0, 9.0),
             g: DVec3::new(0.0, 0.0, -9.81),

@@ -1,7 +1,7 @@
 //! Solid spheres.
 
 use super::{Primitive, entry_root};
-use crate::collision::arc::{Arc, first_entry, hit_at, squared_norm};
+use crate::collision::flight::{Flight, first_entry, hit_at, squared_norm};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
@@ -29,7 +29,7 @@ impl Primitive for Sphere {
         Some(Hit { t, point, normal: (point - self.center).normalize_or(DVec3::Z) })
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         if let Some(h) = super::inside_start(self, arc) {
             return Some(h);
         }

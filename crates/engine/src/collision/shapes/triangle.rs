@@ -2,7 +2,7 @@
 
 use super::Primitive;
 use super::plane::{facing, plane_crossing, plane_hit};
-use crate::collision::arc::Arc;
+use crate::collision::flight::Flight;
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
@@ -49,7 +49,7 @@ impl Primitive for Triangle {
         self.covers(point).then(|| Hit { t, point, normal: facing(self.normal, d0) })
     }
 
-    fn intersect_arc(&self, arc: &Arc) -> Option<Hit> {
+    fn intersect_arc(&self, arc: &Flight) -> Option<Hit> {
         plane_hit(arc, self.corners[0], self.normal, |q| self.covers(q))
     }
 

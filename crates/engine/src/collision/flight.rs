@@ -28,7 +28,7 @@ fn first_rise(a: f64, b: f64, c: f64) -> f64 {
 
 /// A flight under constant acceleration over `[0, duration]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Arc {
+pub struct Flight {
     /// Start position, m.
     pub x0: DVec3,
     /// Start velocity, m/s.
@@ -39,7 +39,7 @@ pub struct Arc {
     pub duration: f64,
 }
 
-impl Arc {
+impl Flight {
     /// Position at time `tau` (s).
     #[inline]
     pub fn at(&self, tau: f64) -> DVec3 {
@@ -91,7 +91,7 @@ impl Arc {
         let step = self.duration / N as f64;
         std::array::from_fn(|k| {
             let t = step * k as f64;
-            Arc { x0: self.at(t), v0: self.velocity(t), g: self.g, duration: step }.aabb()
+            Flight { x0: self.at(t), v0: self.velocity(t), g: self.g, duration: step }.aabb()
         })
     }
 
@@ -126,15 +126,16 @@ pub(crate) fn eval(c: &[f64], t: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, &ci| acc * t + ci)
 }
 
-/// A few numbers on the stack (polynomial coefficients, roots): the root finder runs once per
-/// candidate surface per step, where heap vectors would cost more than the arithmetic.
+/// A short list of at most eight numbers kept on the stack (a polynomial's coefficients, its
+/// roots in an interval): the root finder runs once per candidate surface per step, where heap
+/// vectors would cost more than the arithmetic.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Small {
+pub struct ShortList {
     items: [f64; 8],
     len: usize,
 }
 
-impl Small {
+impl ShortList {
     fn push(&mut self, x: f64) {
         // Degree ≤ 4 keeps every list within 6 (roots and the knots between them).
         debug_assert!(self.len < self.items.len());
@@ -157,7 +158,7 @@ impl Small {
     }
 }
 
-impl std::ops::Deref for Small {
+impl std::ops::Deref for ShortList {
     type Target = [f64];
     fn deref(&self) -> &[f64] {
         &self.items[..self.len]
@@ -165,8 +166,8 @@ impl std::ops::Deref for Small {
 }
 
 /// The derivative of the polynomial `c` (low to high).
-pub(crate) fn derivative(c: &[f64]) -> Small {
-    let mut d = Small::default();
+pub(crate) fn derivative(c: &[f64]) -> ShortList {
+    let mut d = ShortList::default();
     c.iter().enumerate().skip(1).for_each(|(i, &ci)| d.push(i as f64 * ci));
     d
 }
@@ -175,10 +176,10 @@ pub(crate) fn derivative(c: &[f64]) -> Small {
 /// of the derivative split the interval into monotone pieces, each narrowed to adjacent
 /// floats, so no root is missed whatever the step; a root where the polynomial only touches
 /// zero counts. Quadratics are solved in closed form.
-pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
+pub fn roots(c: &[f64], lo: f64, hi: f64) -> ShortList {
     let deg = c.iter().rposition(|&x| x != 0.0).unwrap_or(0);
     let c = &c[..=deg];
-    let mut out = Small::default();
+    let mut out = ShortList::default();
     if deg == 0 {
         return out;
     }
@@ -192,7 +193,7 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
     if deg == 2 {
         return quadratic_roots(c, lo, hi);
     }
-    let mut knots = Small::default();
+    let mut knots = ShortList::default();
     knots.push(lo);
     let dc = derivative(c);
     roots(&dc, lo, hi).iter().filter(|&&r| r > lo && r < hi).for_each(|&r| knots.push(r));
@@ -221,8 +222,8 @@ pub fn roots(c: &[f64], lo: f64, hi: f64) -> Small {
 
 /// Roots of the quadratic `c` (low to high, `c[2] ≠ 0`) in `[lo, hi]`, ascending, without
 /// cancellation; a double root counts once.
-fn quadratic_roots(c: &[f64], lo: f64, hi: f64) -> Small {
-    let mut out = Small::default();
+fn quadratic_roots(c: &[f64], lo: f64, hi: f64) -> ShortList {
+    let mut out = ShortList::default();
     let disc = c[1] * c[1] - 4.0 * c[2] * c[0];
     if disc < 0.0 {
         return out;
@@ -339,13 +340,13 @@ fn narrow_bracket(c: &[f64], (mut a, mut fa): (f64, f64), (mut b, mut fb): (f64,
 }
 
 /// A hit at time `tau` (s) of the arc, with `Hit::t` the fraction of its duration.
-pub(crate) fn hit_at(arc: &Arc, tau: f64, normal: DVec3) -> Hit {
+pub(crate) fn hit_at(arc: &Flight, tau: f64, normal: DVec3) -> Hit {
     Hit { t: (tau / arc.duration).clamp(0.0, 1.0), point: arc.at(tau), normal }
 }
 
 /// First root of `f` in `(0, T]` at which `f` goes from positive to non-positive and `accept`
 /// holds at the hit point.
-pub(crate) fn first_entry(arc: &Arc, f: &[f64], accept: impl Fn(f64) -> bool) -> Option<f64> {
+pub(crate) fn first_entry(arc: &Flight, f: &[f64], accept: impl Fn(f64) -> bool) -> Option<f64> {
     let df = derivative(f);
     roots(f, 0.0, arc.duration).iter().copied().find(|&tau| tau > 0.0 && eval(&df, tau) <= 0.0 && accept(tau))
 }
@@ -453,7 +454,7 @@ mod tests {
 
     #[test]
     fn a_dropped_particle_meets_the_floor_at_the_closed_form_time() {
-        let arc = Arc {
+        let arc = Flight {
             x0: DVec3::new(0.0, 0.0, 1.0),
             v0: DVec3::new(2.0, 0.0, 0.0),
             g: DVec3::new(0.0, 0.0, -9.81),
