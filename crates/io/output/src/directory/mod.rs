@@ -5,11 +5,11 @@
 //!   message naming the holder ([`crate::OutputError::Busy`]).
 //! - **Whole sets.** A set of files (a run's results, a report) replaces the previous set as a
 //!   whole: the directory holds the previous complete set or the new one, never a mix, even when
-//!   a write fails part-way or the writer is killed ([`commit`]).
+//!   a write fails part-way or the writer is killed (see `commit.rs`).
 //! - **Nothing that spraysim did not write.** Only names of spraysim's [`OUTPUT_NAMES`] are
 //!   replaced or removed, a file is removed only while it is still byte for byte what spraysim
 //!   wrote, no symbolic link below the directory is followed, and temporary files are created
-//!   exclusively under random names ([`paths`]).
+//!   exclusively under random names (see `paths.rs`).
 //!
 //! Besides a set, a directory holds the writer's bookkeeping, every name of it beginning with
 //! `.spraysim-`: the list of the set's files, the lock file, the record of the run, and while
