@@ -88,6 +88,28 @@ fn an_output_directory_under_a_file_is_refused_before_the_run() {
 }
 
 #[test]
+fn check_reports_steps_particles_and_memory() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    let o = spraysim(&["check", "s.toml"], tmp.path());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success() && text.contains("50 steps") && text.contains("particles"), "{text}");
+    assert!(text.contains("of memory (limit"), "{text}");
+    let o = spraysim(
+        &["check", "s.toml", "--set", "emitter.spawn_rate=1e9", "--set", "simulation.dt=0.1"],
+        tmp.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("`emitter.spawn_rate`") && err.contains("memory"), "{err}");
+    let o = spraysim(
+        &["check", "s.toml", "--set", "simulation.duration=1e4", "--set", "simulation.dt=1e-4"],
+        tmp.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains("100000000 steps"), "{err}");
+}
+
+#[test]
 fn presets_paste_into_scenarios() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let o = spraysim(&["presets"], tmp.path());

@@ -7,12 +7,11 @@
 //! [`directory`]).
 
 pub mod checkpoint;
-pub mod control;
 pub mod directory;
 pub mod export;
 pub mod heatmap;
 
-pub use directory::{FILE_LIST, OutputDir, STAGING_PREFIX};
+pub use directory::{CommitHooks, CommitPoint, FILE_LIST, NoHooks, OutputDir, STAGING_PREFIX};
 
 use ndarray::{ArrayViewD, IxDyn};
 use spraysim_engine::Simulation;
@@ -29,7 +28,7 @@ pub enum OutputError {
     Io {
         /// What was being written.
         path: PathBuf,
-        /// Underlying error.
+        /// What the operating system reported.
         #[source]
         source: std::io::Error,
     },
@@ -39,7 +38,7 @@ pub enum OutputError {
          another directory"
     )]
     Busy {
-        /// The directory.
+        /// The output directory whose lock is held.
         path: PathBuf,
         /// Who holds it: process id, for how long, command line.
         holder: String,
@@ -47,17 +46,17 @@ pub enum OutputError {
     /// An array could not be encoded.
     #[error("{path}: cannot write the array: {message}")]
     Npy {
-        /// File.
+        /// The `.npy` file being written, by its name in the output directory.
         path: PathBuf,
-        /// Reason.
+        /// What the array encoder reported.
         message: String,
     },
     /// An image could not be encoded.
     #[error("{path}: cannot write the image: {message}")]
     Image {
-        /// File.
+        /// The image file being written, as its caller named it.
         path: PathBuf,
-        /// Reason.
+        /// What the PNG encoder reported.
         message: String,
     },
 }
@@ -75,19 +74,21 @@ pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>
 /// Writes every output of `sim`, a run of `scenario`, into `dir` (created if needed), holding
 /// the directory's lock for the write; returns the files written.
 pub fn write_outputs(sim: &Simulation, scenario: &Scenario, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    write_outputs_with(sim, scenario, &OutputDir::lock(dir)?, Vec::new())
+    write_outputs_with(sim, scenario, &OutputDir::lock(dir)?, Vec::new(), &NoHooks)
 }
 
 /// [`write_outputs`] into a directory the caller has locked, with `extra` files (name,
 /// contents) of the same run, such as its 3D views: written in the same set and listed in the
-/// same manifest. The directory then records this run (see [`OutputDir::record_run`]).
+/// same manifest, with the caller's `hooks` (see [`OutputDir::write_set_with`]). The directory
+/// then records this run (see [`OutputDir::record_run`]).
 pub fn write_outputs_with(
     sim: &Simulation,
     scenario: &Scenario,
     dir: &OutputDir,
     extra: Vec<(String, Vec<u8>)>,
+    hooks: &dyn CommitHooks,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    let written = dir.write_set(&outputs_with(sim, scenario, extra)?)?;
+    let written = dir.write_set_with(&outputs_with(sim, scenario, extra)?, hooks)?;
     dir.record_run(&scenario.to_toml())?;
     Ok(written)
 }

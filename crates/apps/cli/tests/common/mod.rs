@@ -20,8 +20,8 @@ pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// Starts `spraysim ARGS` pausing at `point` (several: comma-separated; see the output
-/// crate's `control::pause_point`), and waits until it has reached the first.
+/// Starts `spraysim ARGS` pausing at `point` (several: comma-separated; see the command's
+/// run control, `src/control.rs`), and waits until it has reached the first.
 pub fn paused_at(args: &[&str], cwd: &Path, point: &str) -> (Child, BufReader<ChildStderr>) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_spraysim"))
         .args(args)

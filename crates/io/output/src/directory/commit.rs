@@ -11,7 +11,8 @@
 //! 4. **Swap.** The previous set's files that this one replaces or no longer writes are moved
 //!    aside into the staging folder's `old/`, the index (`metrics.json`, the set's first file)
 //!    first; then the new files move in, the index last. A failure on the way moves everything
-//!    back: the directory holds the previous set again.
+//!    back: the directory holds the previous set again. The caller's [`CommitHooks`] may refuse
+//!    the swap before the first move, and hold it off from outside until the last.
 //! 5. **List.** [`FILE_LIST`] records each file of the set with its size and SHA-256. A later
 //!    set removes a file of an earlier one only if the list names it, its name is one of
 //!    spraysim's, it is a regular file reached without following a link, and its size and
@@ -21,11 +22,11 @@
 //! directory (see [`super::lock`]) reads the journal and finishes the swap backwards (or, when
 //! the new index is in place, forwards), with the same checks on every name.
 
+use super::hooks::{CommitHooks, CommitPoint};
 use super::paths::{
     Found, check_name, create_fresh, create_new, hash_bytes, hash_file, in_the_way, invalid, lookup,
     make_parents, read_small,
 };
-use crate::control::{Committing, pause_point};
 use crate::{OutputError, io_err};
 use std::collections::BTreeSet;
 use std::io::Write;
@@ -128,9 +129,13 @@ fn movable(name: &str) -> bool {
 }
 
 /// Writes `files` (name, contents) into `dir` as one set, the first (the set's index) moved in
-/// last, removing the files of the previous set that this one does not write. Returns the
-/// paths written. The caller holds the directory's lock.
-pub(crate) fn write_set(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
+/// last, removing the files of the previous set that this one does not write, and telling
+/// `hooks` on the way. Returns the paths written. The caller holds the directory's lock.
+pub(crate) fn write_set(
+    dir: &Path,
+    files: &[(String, Vec<u8>)],
+    hooks: &dyn CommitHooks,
+) -> Result<Vec<PathBuf>, OutputError> {
     let mut names = BTreeSet::new();
     for (name, _) in files {
         check_name(name)?;
@@ -164,7 +169,7 @@ pub(crate) fn write_set(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<P
         .map(|e| e.name)
         .collect();
     let (_, staging) = create_fresh(dir, STAGING_PREFIX, "", |p| std::fs::create_dir(p))?;
-    let plan = Plan { dir, staging: &staging, index, entries, list, stale };
+    let plan = Plan { dir, staging: &staging, index, entries, list, stale, hooks };
     let result = plan.stage(files).and_then(|()| plan.swap());
     match &result {
         Err(Failed { restored: false, .. }) => {} // the journal stays, for the next writer
@@ -205,6 +210,9 @@ struct Plan<'a> {
     list: String,
     /// Files of the previous set that this one does not write, checked still to be spraysim's.
     stale: Vec<String>,
+    /// The caller's hooks: told when the set is staged and as each file moves in, and asked
+    /// before the first file moves.
+    hooks: &'a dyn CommitHooks,
 }
 
 impl Plan<'_> {
@@ -219,7 +227,7 @@ impl Plan<'_> {
             let path = new.join(name);
             create_new(&path).and_then(|mut f| f.write_all(bytes)).map_err(io_err(&path))?;
         }
-        pause_point("staged");
+        self.hooks.reached(CommitPoint::Staged);
         Ok(())
     }
 
@@ -253,7 +261,7 @@ impl Plan<'_> {
         }
         let path = self.staging.join(JOURNAL);
         create_new(&path).and_then(|mut f| f.write_all(journal.as_bytes())).map_err(io_err(&path))?;
-        let Some(_guard) = Committing::start() else {
+        let Some(_moving) = self.hooks.begin_moving() else {
             let source = std::io::Error::new(
                 std::io::ErrorKind::Interrupted,
                 "aborted before moving files into place",
@@ -282,7 +290,7 @@ impl Plan<'_> {
             rename(&new.join(name), &self.dir.join(name))?;
             done.moved_in.push(name.to_string());
             if name != FILE_LIST {
-                pause_point(&format!("commit:{}", k + 1));
+                self.hooks.reached(CommitPoint::MovedIn(k + 1));
             }
         }
         rename(&new.join(self.index), &self.dir.join(self.index))?;

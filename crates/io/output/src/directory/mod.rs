@@ -5,7 +5,8 @@
 //!   message naming the holder ([`crate::OutputError::Busy`]).
 //! - **Whole sets.** A set of files (a run's results, a report) replaces the previous set as a
 //!   whole: the directory holds the previous complete set or the new one, never a mix, even when
-//!   a write fails part-way or the writer is killed (see `commit.rs`).
+//!   a write fails part-way or the writer is killed (see `commit.rs`). A caller that must know
+//!   when files move (to hold off an abort) passes [`CommitHooks`] ([`hooks`]).
 //! - **Nothing that spraysim did not write.** Only names of spraysim's [`OUTPUT_NAMES`] are
 //!   replaced or removed, a file is removed only while it is still byte for byte what spraysim
 //!   wrote, no symbolic link below the directory is followed, and temporary files are created
@@ -16,10 +17,12 @@
 //! a write is under way a staging folder.
 
 mod commit;
+pub mod hooks;
 mod lock;
 mod paths;
 
 pub use commit::{FILE_LIST, OUTPUT_NAMES, STAGING_PREFIX, is_output_name};
+pub use hooks::{CommitHooks, CommitPoint, MovingGuard, NoHooks};
 pub use lock::LOCK_FILE;
 pub use paths::RESERVED_PREFIX;
 
@@ -69,7 +72,7 @@ impl OutputDir {
         Ok(OutputDir { path: path.to_path_buf(), _lock: lock })
     }
 
-    /// The directory.
+    /// The directory's path, as given to [`OutputDir::lock`].
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -78,7 +81,17 @@ impl OutputDir {
     /// replacing the previous one, the first file (the set's index) moved in last; returns the
     /// paths written. See the module's contract.
     pub fn write_set(&self, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, OutputError> {
-        commit::write_set(&self.path, files)
+        self.write_set_with(files, &NoHooks)
+    }
+
+    /// [`OutputDir::write_set`], telling `hooks` when the set is staged and as each file moves
+    /// in, and asking them before the first file moves (see [`CommitHooks`]).
+    pub fn write_set_with(
+        &self,
+        files: &[(String, Vec<u8>)],
+        hooks: &dyn CommitHooks,
+    ) -> Result<Vec<PathBuf>, OutputError> {
+        commit::write_set(&self.path, files, hooks)
     }
 
     /// Creates a new file for writing under a fresh random name `{prefix}{pid}-{random}{suffix}`

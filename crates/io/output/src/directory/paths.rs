@@ -23,7 +23,7 @@ pub(crate) enum Found {
     File(u64),
     /// A symbolic link, not followed.
     Link,
-    /// A folder.
+    /// A real folder (not a link to one).
     Folder,
     /// A FIFO, a device or a socket.
     Special,
