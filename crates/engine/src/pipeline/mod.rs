@@ -6,7 +6,8 @@
 //! 2. **update** (`update.rs`): every particle in flight moves, collides and resolves its
 //!    impacts (parallel over fixed-size chunks, each particle with its own random stream);
 //! 3. **apply** (`apply.rs`): impact records are applied to deposits and tallies in particle
-//!    order, and impact events reach the event handler;
+//!    order, each booked by the target or obstacle struck (`Target::record_impact`), and
+//!    impact events reach the event handler;
 //! 4. **layers** (`layers.rs`): the layer stages (cohesion, drip, …) at their intervals; then
 //!    **watch** (`watch.rs`) wakes the sleeping particles a layer has grown under, and the
 //!    broad phase is told how far the layers have grown (waking the sleepers that come near a
