@@ -38,7 +38,7 @@ use std::sync::Arc;
 
 /// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
 /// the order in which records are applied, never depends on the thread count.
-/// ShortList enough that a step with few particles awake still splits into enough tasks to keep
+/// Small enough that a step with few particles awake still splits into enough tasks to keep
 /// every thread busy: a raster at 10⁵ particles/s has about 11 000 in flight, of which about 800
 /// are awake in a step, most of them in the youngest chunks.
 const CHUNK: usize = 256;
@@ -56,9 +56,9 @@ pub enum SetupError {
     /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
     Threads {
-        /// Requested count.
+        /// Worker threads asked for (0: one per core).
         threads: usize,
-        /// Reason.
+        /// Why they were refused: over the limit, or the pool failed to start (rayon's error).
         message: String,
     },
 }
