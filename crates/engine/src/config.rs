@@ -67,7 +67,7 @@ pub struct Material {
 pub struct TargetConfig {
     /// Name (unique among targets and obstacles).
     pub name: String,
-    /// Substrate or collector.
+    /// Substrate (sprayed) or collector (catches what rebounds or falls).
     pub role: Role,
     /// Geometry and (empty) deposit.
     pub surface: Surface,
@@ -112,7 +112,7 @@ pub struct ObstacleConfig {
 pub struct ScheduledStage {
     /// Time between runs, s (rounded to whole steps, at least one).
     pub interval: f64,
-    /// The stage.
+    /// What runs on the layers at each interval (cohesion, drip, slump, …).
     pub stage: Arc<dyn LayerStage>,
 }
 

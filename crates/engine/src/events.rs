@@ -12,7 +12,7 @@ use glam::DVec3;
 pub struct ImpactEvent {
     /// Time of the impact, s.
     pub time: f64,
-    /// Where, m.
+    /// Impact point, m.
     pub position: DVec3,
     /// Unit surface normal, facing the particle.
     pub normal: DVec3,
@@ -38,7 +38,7 @@ pub struct EmissionEvent {
     pub time: f64,
     /// Emission index of the first particle.
     pub first: u64,
-    /// How many.
+    /// Particles emitted in the step.
     pub count: u64,
     /// Volume each carries, m³.
     pub volume: f64,
@@ -89,7 +89,7 @@ pub trait EventHandler {
     }
 }
 
-/// No handler.
+/// The handler that handles nothing, for a step without an observer.
 impl EventHandler for () {}
 
 /// A sample of the impacts of a run: a hash of particle and impact number against the sampled

@@ -13,11 +13,11 @@ use crate::world::{Role, Target};
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Range {
-    /// Smallest value.
+    /// Smallest value, in the quantity's unit (see [`PathMetrics`]).
     pub min: f64,
-    /// Mean value.
+    /// Mean over the spraying time, in the quantity's unit.
     pub mean: f64,
-    /// Largest value.
+    /// Largest value, in the quantity's unit.
     pub max: f64,
     /// Share of spraying time outside the window, 0..1.
     pub outside_share: f64,
@@ -64,21 +64,21 @@ pub struct FailureMetrics {
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VolumeBalance {
-    /// Emitted by the nozzle.
+    /// Emitted by the nozzle, m³.
     pub emitted: f64,
     /// In the deposit maps of every target: Σ thickness × cell area.
     pub in_maps: f64,
     /// Stuck on the backs of targets, which have no map.
     pub on_backs: f64,
-    /// On obstacles.
+    /// Stuck on obstacles, m³.
     pub on_obstacles: f64,
-    /// Left the domain.
+    /// Carried out of the domain box, m³.
     pub left_domain: f64,
-    /// Expired.
+    /// Carried by particles retired in flight at the maximum lifetime, m³.
     pub expired: f64,
-    /// In flight (from the nozzle or released).
+    /// In flight now (from the nozzle or released), m³.
     pub in_flight: f64,
-    /// `emitted` minus the rest.
+    /// `emitted` minus the rest, m³: rounding only.
     pub residual: f64,
 }
 
@@ -92,7 +92,7 @@ pub struct Fates {
     pub stuck_on_obstacles: Amount,
     /// Left the domain box.
     pub left_domain: Amount,
-    /// Still in flight past the maximum lifetime.
+    /// Retired still in flight at the maximum lifetime.
     pub expired: Amount,
     /// Still in flight.
     pub in_flight: Amount,
@@ -187,13 +187,13 @@ impl ThicknessStats {
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TargetMetrics {
-    /// Name.
+    /// The target's name in the scenario.
     pub name: String,
-    /// Substrate or collector.
+    /// Substrate (sprayed) or collector (catches what rebounds or falls).
     pub role: Role,
     /// Impacts, stuck or rebounded, either side.
     pub hits: u64,
-    /// Stuck on the front, in the heightfield (adhering or loose).
+    /// Stuck on the front, in the deposit (adhering or loose).
     pub stuck: Amount,
     /// Of those, the rebounds that came to rest loose: on the surface, not in place.
     pub loose: Amount,
@@ -207,12 +207,12 @@ pub struct TargetMetrics {
     /// Rebound as ACI 506R counts it, for a substrate: the share of `delivered` not in place;
     /// `null` for a collector or before anything was delivered.
     pub rebound_ratio: Option<f64>,
-    /// Stuck on the back (no heightfield).
+    /// Stuck on the back, which keeps no deposit.
     pub stuck_on_back: Amount,
     /// Σ thickness × cell area, m³: `stuck` plus what was received on the front, less what fell
     /// or ran off (up to rounding).
     pub layer_volume: f64,
-    /// Thickness statistics over the face.
+    /// Thickness statistics over the cells away from the edges (see [`ThicknessStats::of`]).
     pub thickness: ThicknessStats,
     /// Released material that landed here.
     pub received: Amount,
@@ -222,7 +222,7 @@ pub struct TargetMetrics {
     pub at_risk_fraction: f64,
     /// Share of cells that have failed, 0..1.
     pub failed_fraction: f64,
-    /// Impacts per cm² of the face, on average.
+    /// Impacts per cm² of the surface, on average.
     pub hits_per_cm2: f64,
     /// Erosion (with an erosion model).
     pub erosion: Option<ErosionStats>,
@@ -255,9 +255,9 @@ pub struct ErosionStats {
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ObstacleMetrics {
-    /// Name.
+    /// The obstacle's name in the scenario.
     pub name: String,
-    /// Impacts.
+    /// Impacts, stuck or rebounded.
     pub hits: u64,
     /// Stuck on it.
     pub stuck: Amount,

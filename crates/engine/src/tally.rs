@@ -5,7 +5,7 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Amount {
-    /// Particles.
+    /// How many particles.
     pub count: u64,
     /// Volume, m³.
     pub volume: f64,
@@ -58,10 +58,21 @@ pub struct Tally {
     pub ran_off: Amount,
 }
 
+impl Tally {
+    /// Counts a particle's first impact on the front of a substrate target, carrying `volume`
+    /// (m³), and, unless it `stuck`, its rebound from there.
+    pub(crate) fn first_substrate_impact(&mut self, volume: f64, stuck: bool) {
+        self.substrate_first_impacts.add(volume);
+        if !stuck {
+            self.substrate_first_rebounds.add(volume);
+        }
+    }
+}
+
 /// Running statistics of one path quantity and the samples outside its window.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Gauge {
-    /// Samples.
+    /// How many samples were taken.
     pub n: u64,
     /// Sum of the samples.
     pub sum: f64,

@@ -19,9 +19,9 @@ pub enum Role {
 /// A target: its deposit surface and what has happened on it.
 #[derive(Clone, Debug)]
 pub struct Target {
-    /// Name.
+    /// Name the scenario gives it (unique among targets and obstacles), for outputs.
     pub name: String,
-    /// Substrate or collector.
+    /// Substrate (sprayed) or collector (catches what rebounds or falls).
     pub role: Role,
     /// Geometry and deposited layer.
     pub surface: Surface,
@@ -30,7 +30,7 @@ pub struct Target {
     pub surface_id: SurfaceId,
     /// How many pieces the surface has in the scene.
     pub pieces: u32,
-    /// Impacts on either side.
+    /// Impacts on either side, stuck or rebounded.
     pub hits: u64,
     /// Particles stuck on the front (all in the deposit), adhering or loose.
     pub stuck: Amount,
@@ -92,7 +92,82 @@ impl ErosionMaps {
     }
 }
 
+/// One impact on a target or an obstacle, as the apply stage books it: where it struck, the
+/// particle's volume, and what became of the particle.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Impact {
+    /// The cell struck (on a target; an obstacle has none).
+    pub cell: u32,
+    /// The particle's volume, m³.
+    pub volume: f64,
+    /// Volumes of coating and of substrate the impact would wear away, m³.
+    pub eroded: (f64, f64),
+    /// The impact was on the back of a target, which collects no deposit.
+    pub back: bool,
+    /// The particle stuck (adhering or loose) instead of rebounding.
+    pub stuck: bool,
+    /// The particle is material a cohesive failure, a drip or a slump released.
+    pub released: bool,
+    /// The particle came to rest loose (a slow rebound), not adhering: with `stuck`.
+    pub loose: bool,
+    /// The particle had rebounded before this impact.
+    pub rebound: bool,
+    /// The particle's first impact on the front of a substrate target.
+    pub first_substrate: bool,
+}
+
 impl Target {
+    /// Books one impact on this target: counts it; on the front, counts it in its cell and
+    /// wears the cell (under an erosion law); a particle that stuck is [received](Self::receive);
+    /// a first impact on a substrate counts as material delivered.
+    pub(crate) fn record_impact(&mut self, impact: &Impact) {
+        self.hits += 1;
+        if !impact.back {
+            self.surface.add_hit(impact.cell);
+            self.wear(impact.cell, impact.eroded);
+        }
+        if impact.stuck {
+            self.receive(impact);
+        }
+        if impact.first_substrate {
+            self.delivered.add(impact.volume);
+        }
+    }
+
+    /// Wears `cell` by an impact that would remove `coat` m³ of coating or `sub` m³ of
+    /// substrate, when an erosion law applies to this target.
+    fn wear(&mut self, cell: u32, (coat, sub): (f64, f64)) {
+        if let Some(e) = &mut self.erosion {
+            let area = self.surface.cell_area(cell);
+            e.wear(cell as usize, area, coat, sub);
+        }
+    }
+
+    /// Takes a particle that stuck: on the front its volume joins the deposit; it counts as
+    /// released material received (front or back), as stuck on the back, or as sprayed
+    /// material stuck on the front (and of that, as loose or as trapped rebound).
+    fn receive(&mut self, impact: &Impact) {
+        let volume = impact.volume;
+        if !impact.back {
+            self.surface.deposit(impact.cell, volume);
+        }
+        if impact.released {
+            self.received.add(volume);
+            if impact.back {
+                self.received_back += volume;
+            }
+        } else if impact.back {
+            self.stuck_back.add(volume);
+        } else {
+            self.stuck.add(volume);
+            if impact.loose {
+                self.loose.add(volume);
+            } else if impact.rebound {
+                self.trapped.add(volume);
+            }
+        }
+    }
+
     /// Per cell, 1 where a wet film risks sagging: its thickness times the sine of the surface's
     /// tilt from horizontal exceeds `threshold` (m). A horizontal surface never sags.
     pub fn sag_risk(&self, threshold: f64) -> Vec<u8> {
@@ -115,12 +190,23 @@ impl Target {
 /// An obstacle and what has struck it.
 #[derive(Clone, Debug, Default)]
 pub struct Obstacle {
-    /// Name.
+    /// Name the scenario gives it (unique among targets and obstacles), for outputs.
     pub name: String,
-    /// Impacts.
+    /// Impacts, stuck or rebounded.
     pub hits: u64,
     /// Particles stuck on it.
     pub stuck: Amount,
     /// Released material that landed on it.
     pub received: Amount,
+}
+
+impl Obstacle {
+    /// Books one impact on this obstacle: counts it, and a particle that stuck as released
+    /// material received or as stuck.
+    pub(crate) fn record_impact(&mut self, impact: &Impact) {
+        self.hits += 1;
+        if impact.stuck {
+            if impact.released { &mut self.received } else { &mut self.stuck }.add(impact.volume);
+        }
+    }
 }

@@ -40,7 +40,8 @@ pub const SURFACE_OFFSET: f64 = 1e-9;
 #[cfg(test)]
 pub(crate) mod testing {
     /// Uniform numbers in [−1, 1) from a xorshift generator seeded with `seed`.
-    pub(crate) fn uniform(mut x: u64) -> impl FnMut() -> f64 {
+    pub(crate) fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut x = seed;
         move || {
             x ^= x << 13;
             x ^= x >> 7;

@@ -32,7 +32,7 @@ pub enum SurfaceKind {
 /// One collidable surface: its shape, its owner and the impact model that applies on it.
 #[derive(Clone, Debug)]
 pub struct SurfaceRef {
-    /// Geometry.
+    /// The piece's geometry, in scene coordinates (m).
     pub shape: Shape,
     /// Target or obstacle it belongs to.
     pub kind: SurfaceKind,

@@ -228,11 +228,8 @@ mod tests {
     /// corners (which the generic chart takes): to rounding, for faces turned every way.
     #[test]
     fn a_face_ranges_over_a_box_as_its_corners_do() {
-        let mut x: u64 = 3;
-        let mut next = || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut uniform = crate::deposit::testing::uniform(3);
+        let mut next = || uniform() - 0.5;
         for _ in 0..2000 {
             let mut v = || DVec3::new(next(), next(), next());
             let (normal, up) = (v(), v());

@@ -3,7 +3,7 @@
 //! along its normal.
 
 use super::heightfield::ChangedCells;
-use super::{DepositSurface, LayerContact, Layout, SurfaceMesh};
+use super::{DepositSurface, LayerContact, SurfaceMesh};
 use crate::checkpoint::{Dec, Enc, StateError};
 use crate::collision::broad_phase::Grid;
 use crate::collision::{Aabb, Hit, Primitive, Shape, Triangle};
@@ -238,6 +238,7 @@ impl DepositSurface for MeshSurface {
         cell
     }
 
+    /// Through the index of the triangles' boxes, not over every triangle.
     fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> {
         let mut best: Option<(u32, Hit)> = None;
         self.index.walk(p0, p1, |items| {
@@ -251,11 +252,6 @@ impl DepositSurface for MeshSurface {
             best.map_or(f64::INFINITY, |(_, h)| h.t)
         });
         best.map(|(_, h)| h)
-    }
-
-    #[inline]
-    fn receives(&self, piece: u32, _point: DVec3, normal: DVec3) -> bool {
-        normal.dot(self.triangles[piece as usize].normal) > 0.0
     }
 
     #[inline]
@@ -312,26 +308,6 @@ impl DepositSurface for MeshSurface {
         &self.thickness
     }
 
-    fn mean_thickness(&self, cell: u32, radius: f64) -> f64 {
-        // The triangles whose centroids lie within `radius`, reached across shared edges.
-        let c0 = self.centroid[cell as usize];
-        let (mut sum, mut area) = (0.0, 0.0);
-        let mut stack = vec![cell];
-        let mut seen = vec![cell];
-        while let Some(i) = stack.pop() {
-            let iu = i as usize;
-            sum += self.thickness[iu] * self.area[iu];
-            area += self.area[iu];
-            for &(j, _) in &self.across[iu] {
-                if j != NONE && !seen.contains(&j) && self.centroid[j as usize].distance(c0) <= radius {
-                    seen.push(j);
-                    stack.push(j);
-                }
-            }
-        }
-        sum / area
-    }
-
     fn hits(&self) -> &[u32] {
         &self.hits
     }
@@ -341,32 +317,15 @@ impl DepositSurface for MeshSurface {
         self.area[cell as usize]
     }
 
+    /// Kept as the layer grows, not found by visiting every cell.
     #[inline]
     fn max_thickness(&self) -> f64 {
         self.max_thickness
     }
 
-    fn volume(&self) -> f64 {
-        self.thickness.iter().zip(&self.area).map(|(t, a)| t * a).sum()
-    }
-
     fn add_hit(&mut self, cell: u32) {
         let h = &mut self.hits[cell as usize];
         *h = h.saturating_add(1);
-    }
-
-    fn deposit(&mut self, cell: u32, volume: f64) {
-        let c = cell as usize;
-        self.thickness[c] += volume / self.area[c];
-        self.raised(c);
-    }
-
-    fn remove(&mut self, cell: u32, volume: f64) -> f64 {
-        let c = cell as usize;
-        let take = (volume / self.area[c]).min(self.thickness[c]);
-        self.thickness[c] -= take;
-        self.changed.mark(c);
-        take * self.area[c]
     }
 
     fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64)) {
@@ -394,12 +353,6 @@ impl DepositSurface for MeshSurface {
         }
     }
 
-    fn spacing(&self, cell: u32) -> f64 {
-        let mut least = f64::INFINITY;
-        self.stencil(cell, &mut |_, centre| least = least.min(centre.distance(self.centroid[cell as usize])));
-        least
-    }
-
     fn edge_distance(&self, cell: u32) -> f64 {
         self.edge_distance[cell as usize]
     }
@@ -412,10 +365,6 @@ impl DepositSurface for MeshSurface {
 
     fn take_changed(&mut self) -> Vec<u32> {
         self.changed.take()
-    }
-
-    fn layout(&self) -> Layout {
-        Layout::Cells { count: self.triangles.len() }
     }
 
     /// The mesh itself, its welded vertices carrying the area-weighted mean thickness and

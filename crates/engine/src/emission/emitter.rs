@@ -13,9 +13,9 @@ pub enum Direction {
     UniformPolar,
     /// θ = θ_half · s, s ~ N(μ, σ) truncated to `[0, 1]` (Fig. 3b); μ and σ in units of θ_half.
     TruncatedNormal {
-        /// Mean of s.
+        /// Mean μ of s, in units of θ_half (0: the axis, 1: the cone's edge).
         mu: f64,
-        /// Standard deviation of s.
+        /// Standard deviation σ of s, in units of θ_half.
         sigma: f64,
     },
     /// Uniform over the cone's solid angle: uniform flux per steradian.
@@ -61,9 +61,9 @@ pub enum Aperture {
 /// how much material each carries.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Emitter {
-    /// Aperture.
+    /// Where on the nozzle particles start: a point or an opening of some shape.
     pub aperture: Aperture,
-    /// Direction distribution.
+    /// How the emission directions spread within the cone.
     pub direction: Direction,
     /// Half of the full cone angle, rad.
     pub cone_half_angle: f64,

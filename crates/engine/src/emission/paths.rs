@@ -33,7 +33,7 @@ pub struct RasterPlan {
     pub speed: f64,
     /// Distance between neighbouring passes, m.
     pub step_over: f64,
-    /// Pass direction.
+    /// Whether the passes run along the face's width or its height.
     pub passes: PassDirection,
     /// Travel beyond the rectangle's edge at each end of a pass, spraying, m.
     pub lead: f64,

@@ -32,7 +32,7 @@ pub struct Motion {
     pub gravity: DVec3,
     /// Quadratic drag coefficient `k` in `a = −k |v| v`, 1/m.
     pub drag: f64,
-    /// Scheme.
+    /// Time-stepping scheme that advances positions and velocities over a step.
     pub integrator: Integrator,
 }
 

@@ -6,7 +6,8 @@
 //! 2. **update** (`update.rs`): every particle in flight moves, collides and resolves its
 //!    impacts (parallel over fixed-size chunks, each particle with its own random stream);
 //! 3. **apply** (`apply.rs`): impact records are applied to deposits and tallies in particle
-//!    order, and impact events reach the event handler;
+//!    order, each booked by the target or obstacle struck (`Target::record_impact`), and
+//!    impact events reach the event handler;
 //! 4. **layers** (`layers.rs`): the layer stages (cohesion, drip, …) at their intervals; then
 //!    **watch** (`watch.rs`) wakes the sleeping particles a layer has grown under, and the
 //!    broad phase is told how far the layers have grown (waking the sleepers that come near a
@@ -37,7 +38,7 @@ use std::sync::Arc;
 
 /// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
 /// the order in which records are applied, never depends on the thread count.
-/// ShortList enough that a step with few particles awake still splits into enough tasks to keep
+/// Small enough that a step with few particles awake still splits into enough tasks to keep
 /// every thread busy: a raster at 10⁵ particles/s has about 11 000 in flight, of which about 800
 /// are awake in a step, most of them in the youngest chunks.
 const CHUNK: usize = 256;
@@ -55,9 +56,9 @@ pub enum SetupError {
     /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
     Threads {
-        /// Requested count.
+        /// Worker threads asked for (0: one per core).
         threads: usize,
-        /// Reason.
+        /// Why they were refused: over the limit, or the pool failed to start (rayon's error).
         message: String,
     },
 }

@@ -160,13 +160,13 @@ pub(crate) struct ChunkOutcome {
 /// Which impacts the update stage gathers as events.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Capture {
-    /// None.
+    /// No impact (no handler wants them).
     Nothing,
     /// Those the impact log samples.
     Sampled {
-        /// Share kept.
+        /// Share of the impacts kept, 0..1.
         fraction: f64,
-        /// Salt of the hash.
+        /// Salt of the sampling hash (the run's seed), as [`crate::events::ImpactLog::salt`].
         salt: u64,
     },
     /// Every impact.

@@ -23,7 +23,7 @@ const PRUNE_FLOOR: usize = 4096;
 /// One sleeping flight's watch over nodes of one target's bounds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Watch {
-    /// The particle.
+    /// The sleeping particle's emission index (its `Swarm::id`).
     pub id: u32,
     /// The step it sleeps until: once it has woken, the watch is stale.
     pub wake: u32,
