@@ -1,17 +1,20 @@
 //! The engine's seams, used from outside it through its public API only: a rebound law and an
-//! obstacle shape defined here run in a scene, an event handler watches a run, the nozzle's
-//! path is replaced mid-run, and a snapshot continues exactly as the original.
+//! obstacle shape defined here run in a scene, a shape gives viewers its triangles (or its box),
+//! an event handler watches a run, the nozzle's path is replaced mid-run, and a snapshot
+//! continues exactly as the original.
 
 use glam::DVec3;
-use spraysim_engine::collision::{Aabb, Face, Flight, Hit, Primitive, Shape};
+use spraysim_engine::Simulation;
+use spraysim_engine::collision::{
+    Aabb, Cylinder, CylinderShell, Disk, Face, Flight, Hit, OrientedBox, Plane, Primitive, Shape, Sphere,
+    Triangle,
+};
 use spraysim_engine::config::{ObstacleConfig, SimulationConfig};
 use spraysim_engine::deposit::{DepositSurface, RectangleSurface, Surface};
 use spraysim_engine::emission::{NozzlePath, Waypoint};
 use spraysim_engine::events::{EmissionEvent, EventHandler, ImpactEvent};
 use spraysim_engine::process::rebound::PolynomialRebound;
 use spraysim_engine::process::{ImpactSite, ReboundLaw};
-use spraysim_engine::world::Role;
-use spraysim_engine::{Simulation, config};
 use std::sync::Arc;
 
 /// A rebound law of our own: every impact steeper than `critical` (rad from the normal)
@@ -251,5 +254,47 @@ fn the_configuration_is_checked_before_a_run() {
         impact: c.targets[0].impact.clone(),
     });
     assert!(Simulation::new(c).expect_err("duplicate name").to_string().contains("twice"));
-    let _ = (Role::Substrate, config::Material { density: 1.0, max_lifetime: 1.0, coverage_threshold: 0.0 });
+}
+
+#[test]
+fn every_built_in_shape_gives_viewers_triangles_on_itself_and_one_from_outside_may_give_none() {
+    let (around, extent) = (DVec3::new(0.3, -0.2, 0.4), 5.0);
+    let plane = Plane { point: DVec3::new(0.0, 0.0, 0.2), normal: DVec3::new(0.0, 0.6, 0.8) };
+    let bounded = [
+        Shape::Face(Face::new(DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.3, 1.0, 0.2), DVec3::Z, [0.7, 1.3])),
+        Shape::Disk(Disk { center: DVec3::X, normal: DVec3::new(0.6, 0.0, 0.8), radius: 0.4 }),
+        Shape::Sphere(Sphere { center: DVec3::new(-1.0, 0.5, 2.0), radius: 0.2 }),
+        Shape::Box(OrientedBox {
+            center: DVec3::new(0.1, 0.2, 0.3),
+            axes: [DVec3::X, DVec3::new(0.0, 0.6, 0.8), DVec3::new(0.0, -0.8, 0.6)],
+            half_extents: DVec3::new(0.1, 0.4, 0.2),
+        }),
+        Shape::Cylinder(Cylinder {
+            a: DVec3::new(0.0, -1.0, 0.3),
+            b: DVec3::new(0.2, 1.0, 0.5),
+            radius: 0.01,
+        }),
+        Shape::Triangle(Triangle::new(DVec3::ZERO, DVec3::X, DVec3::new(0.2, 0.9, 0.1)).expect("a triangle")),
+        Shape::Shell(
+            CylinderShell::new(DVec3::ZERO, DVec3::Y, DVec3::X, 3.0, 4.0, [0.3, 2.5]).expect("a shell"),
+        ),
+    ];
+    for shape in bounded.iter().chain([&Shape::Plane(plane)]) {
+        let t = shape.tessellate(around, extent).unwrap_or_else(|| panic!("{shape:?} gives no triangles"));
+        assert!(!t.triangles.is_empty() && t.normals.len() == t.positions.len(), "{shape:?}");
+        assert!(t.triangles.iter().flatten().all(|&i| (i as usize) < t.positions.len()), "{shape:?}");
+        assert!(t.normals.iter().all(|n| n.length() > 0.0), "{shape:?}");
+        for &p in &t.positions {
+            match shape.aabb() {
+                Some(b) => assert!(b.inflate(1e-9).contains(p), "{shape:?}: {p} outside its box"),
+                // The plane: a square on it within `extent` of `around`.
+                None => assert!(
+                    (p - plane.point).dot(plane.normal).abs() < 1e-9 && (p - around).length() < 2.0 * extent
+                ),
+            }
+        }
+    }
+    // The ledge says nothing of its looks: a viewer draws the edges of its box.
+    let ledge = Shape::Custom(Arc::new(Ledge { z: 0.5, half: 0.05 }));
+    assert!(ledge.tessellate(around, extent).is_none() && ledge.aabb().is_some());
 }

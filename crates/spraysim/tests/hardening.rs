@@ -168,7 +168,9 @@ fn issue17_06_resolved_scenario_runs_from_any_working_directory() {
     let again =
         Scenario::from_path(&elsewhere.join("scenario.resolved.toml")).expect("the resolved file reads");
     assert_eq!(again, sc);
-    let spraysim::scenario::TargetShape::Mesh { mesh, .. } = &again.targets()[0].shape else {
+    let spraysim::scenario::TargetShape::Mesh(spraysim::scenario::MeshTarget { mesh, .. }) =
+        &again.targets()[0].shape
+    else {
         panic!("a mesh")
     };
     assert!(Path::new(&mesh.file).is_absolute(), "{}", mesh.file);

@@ -62,7 +62,10 @@ fn line_of(text: &str, needle: &str) -> usize {
 #[test]
 fn the_good_scenario_is_accepted() {
     let sc = Scenario::from_toml(GOOD, "scene.toml").unwrap_or_else(|e| panic!("{e}"));
-    let spraysim::scenario::TargetShape::Rectangle { resolution, .. } = sc.targets()[0].shape else {
+    let spraysim::scenario::TargetShape::Rectangle(spraysim::scenario::RectangleTarget {
+        resolution, ..
+    }) = sc.targets()[0].shape
+    else {
         panic!("a rectangle")
     };
     assert_eq!(resolution, [64, 64]);

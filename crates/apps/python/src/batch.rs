@@ -19,7 +19,7 @@ use pyo3::exceptions::{PyMemoryError, PyOSError, PyRuntimeError, PyTypeError, Py
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString, PyTuple};
 use spraysim::deposit::DepositSurface;
-use spraysim::scenario::{TargetShape, bytes_text};
+use spraysim::scenario::bytes_text;
 use spraysim::{Scenario, SetupError, Simulation, SimulationConfig};
 
 /// Bytes one run's metrics take as a Python dictionary, about (its `metrics.json` is a few
@@ -151,13 +151,7 @@ fn built_error(index: usize, e: &SetupError) -> PyErr {
 
 /// Bytes of a run's thickness maps: 8 per cell of each target (per triangle of a mesh).
 fn map_bytes(scenario: &Scenario) -> f64 {
-    let cells = |shape: &TargetShape| match shape {
-        TargetShape::Rectangle { resolution, .. } | TargetShape::Cylinder { resolution, .. } => {
-            f64::from(resolution[0]) * f64::from(resolution[1])
-        }
-        TargetShape::Mesh { mesh, .. } => mesh.triangles.len() as f64,
-    };
-    8.0 * scenario.targets().iter().map(|t| cells(&t.shape)).sum::<f64>()
+    8.0 * scenario.targets().iter().map(|t| t.shape.cells() as f64).sum::<f64>()
 }
 
 /// How many simulations of the batch may be alive at once (at most `workers`), or the

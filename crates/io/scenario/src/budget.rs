@@ -2,7 +2,6 @@
 //! the memory it needs, each part of it with the key that drives it, so that a scenario the
 //! machine cannot hold is refused before the run, naming that key.
 
-use crate::params::{ObstacleShape, TargetShape};
 use crate::scenario::Scenario;
 use spraysim_engine::particles::Swarm;
 
@@ -20,10 +19,10 @@ const PER_SLOT: f64 = 2.0 * Swarm::BYTES_PER_PARTICLE as f64 + 32.0;
 const PER_BIRTH: f64 = 48.0 + 2.0 * Swarm::BYTES_PER_PARTICLE as f64;
 /// Bytes per cell of a heightfield over the run and while its outputs are written (thickness,
 /// impacts, failure and erosion maps, the arrays and images written).
-const PER_CELL: f64 = 96.0;
+pub(crate) const PER_CELL: f64 = 96.0;
 /// Bytes per triangle of a mesh: its geometry, its scene entry, its index and, for a target,
 /// its deposit and outputs.
-const PER_TRIANGLE: f64 = 600.0;
+pub(crate) const PER_TRIANGLE: f64 = 600.0;
 /// Bytes per logged impact, kept and written as a CSV line.
 const PER_LOGGED: f64 = 96.0 + 200.0;
 
@@ -34,7 +33,7 @@ pub struct MemoryPart {
     pub key: String,
     /// What it is, for messages.
     pub what: String,
-    /// Bytes.
+    /// Its size, bytes.
     pub bytes: f64,
 }
 
@@ -89,6 +88,28 @@ pub fn bytes_text(bytes: f64) -> String {
     format!("{value:.1} {unit}")
 }
 
+/// The memory a surface's geometry takes in a run, as its kind reports it.
+pub(crate) struct Storage {
+    /// The key of the surface's table that drives it (`resolution`, `file`).
+    pub key: &'static str,
+    /// What takes it, counted (`262144 cells`).
+    pub what: String,
+    /// Its size, bytes.
+    pub bytes: f64,
+}
+
+impl Storage {
+    /// The part of the budget for the surface at `path` (`target[0]`) described as `surface`
+    /// (``target `wall` ``).
+    fn part(self, path: &str, surface: &str) -> MemoryPart {
+        MemoryPart {
+            key: format!("{path}.{}", self.key),
+            what: format!("{} of {surface}", self.what),
+            bytes: self.bytes,
+        }
+    }
+}
+
 impl Scenario {
     /// The steps, particles and memory a run of this scenario implies.
     pub fn budget(&self) -> Budget {
@@ -108,26 +129,12 @@ impl Scenario {
             bytes: in_flight * PER_SLOT + per_step * PER_BIRTH,
         }];
         for (i, t) in self.targets().iter().enumerate() {
-            let (key, what, bytes) = match &t.shape {
-                TargetShape::Rectangle { resolution, .. } | TargetShape::Cylinder { resolution, .. } => {
-                    let cells = f64::from(resolution[0]) * f64::from(resolution[1]);
-                    ("resolution", format!("{cells} cells of target `{}`", t.name), cells * PER_CELL)
-                }
-                TargetShape::Mesh { mesh, .. } => {
-                    let n = mesh.triangles.len() as f64;
-                    ("file", format!("{n} triangles of target `{}`", t.name), n * PER_TRIANGLE)
-                }
-            };
-            parts.push(MemoryPart { key: format!("target[{i}].{key}"), what, bytes });
+            let s = t.shape.as_dyn().storage();
+            parts.push(s.part(&format!("target[{i}]"), &format!("target `{}`", t.name)));
         }
         for (i, o) in self.obstacles().iter().enumerate() {
-            if let ObstacleShape::Mesh(m) = &o.shape {
-                let n = m.triangles.len() as f64;
-                parts.push(MemoryPart {
-                    key: format!("obstacle[{i}].file"),
-                    what: format!("{n} triangles of obstacle `{}`", o.name),
-                    bytes: n * PER_TRIANGLE,
-                });
+            if let Some(s) = o.shape.as_dyn().storage() {
+                parts.push(s.part(&format!("obstacle[{i}]"), &format!("obstacle `{}`", o.name)));
             }
         }
         let log = self.output().impact_log;

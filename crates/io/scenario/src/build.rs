@@ -3,24 +3,16 @@
 use crate::params::*;
 use crate::scenario::Scenario;
 use glam::DVec3;
-use spraysim_engine::collision::{
-    Aabb, Cylinder, CylinderShell, Disk, Face, OrientedBox, Plane, Shape, Sphere, Triangle,
-};
+use spraysim_engine::collision::Aabb;
 use spraysim_engine::config::{
     ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
 };
-use spraysim_engine::deposit::{CylinderSurface, MeshSurface, RectangleSurface, ShellChart, Surface};
 use spraysim_engine::emission::{self, Emitter, NozzlePath, Waypoint, circling, raster};
 use spraysim_engine::motion::Motion;
 use spraysim_engine::process::erosion::{Finnie, Oka};
 use spraysim_engine::process::layer::{CohesionStage, DripStage, SlumpStage, Strength};
-use spraysim_engine::process::rebound::{AlwaysRebound, CushionCapture, NeverRebound, PolynomialRebound};
 use spraysim_engine::process::{ErosionLaw, ImpactModel};
 use std::sync::Arc;
-
-fn v3(a: [f64; 3]) -> DVec3 {
-    DVec3::from_array(a)
-}
 
 impl Scenario {
     /// The engine's configuration of this scenario.
@@ -79,23 +71,14 @@ impl Scenario {
         for t in self.targets() {
             // Facing sideways or down, what slumps down the face piles at its held foot without
             // limit (the heightfield measures thickness across the face, not a heap on a floor).
-            let steep = match t.shape {
-                TargetShape::Rectangle { normal, edges, .. } => {
-                    edges == Edges::Held && -gravity.dot(v3(normal).normalize()) < 0.5f64.sqrt()
-                }
-                TargetShape::Cylinder { edges, .. } => edges == Edges::Held,
-                TargetShape::Mesh { .. } => false,
-            };
-            if steep && self.process().slump.interval > 0.0 {
+            if t.shape.as_dyn().piles_at_held_foot(gravity) && self.process().slump.interval > 0.0 {
                 out.push(format!(
                     "target `{}` holds its edges but is steeper than 45°: what slumps down it piles up at its foot \
                      without limit (leave its edges free over a floor target that catches what runs off)",
                     t.name
                 ));
             }
-            if let TargetShape::Mesh { mesh, .. } = &t.shape {
-                out.extend(coarse_mesh(self, &t.name, &mesh.triangles));
-            }
+            out.extend(t.shape.as_dyn().warnings(&t.name, self));
         }
         out
     }
@@ -111,7 +94,7 @@ fn config(sc: &Scenario) -> SimulationConfig {
         .map(|t| TargetConfig {
             name: t.name.clone(),
             role: t.role,
-            surface: surface(&t.shape),
+            surface: t.shape.surface(),
             impact: impact_model(t.impact.as_ref().unwrap_or(&p.impact)),
             erosion: erosion.clone().map(|(coating_law, substrate_law)| ErosionConfig {
                 coating: t.coating,
@@ -127,7 +110,7 @@ fn config(sc: &Scenario) -> SimulationConfig {
         .iter()
         .map(|o| ObstacleConfig {
             name: o.name.clone(),
-            shapes: obstacle_shapes(&o.shape),
+            shapes: o.shape.shapes(),
             impact: impact_model(o.impact.as_ref().unwrap_or(&p.impact)),
         })
         .collect();
@@ -178,26 +161,7 @@ fn config(sc: &Scenario) -> SimulationConfig {
 pub fn impact_model(p: &ImpactParams) -> ImpactModel {
     ImpactModel {
         alpha: p.alpha,
-        rebound: match &p.rebound {
-            ReboundParams::Polynomial { rebound_polynomial } => {
-                Arc::new(PolynomialRebound { coefficients: rebound_polynomial.clone() })
-            }
-            ReboundParams::Cushion {
-                rebound_polynomial,
-                aggregate_fraction,
-                grading,
-                capture_ratio,
-                trap_ratio,
-            } => Arc::new(CushionCapture {
-                aggregate_fraction: *aggregate_fraction,
-                grading: grading.iter().map(|&[d, share]| (d, share)).collect(),
-                capture_ratio: *capture_ratio,
-                trap_ratio: *trap_ratio,
-                ricochet: PolynomialRebound { coefficients: rebound_polynomial.clone() },
-            }),
-            ReboundParams::Always => Arc::new(AlwaysRebound),
-            ReboundParams::Never => Arc::new(NeverRebound),
-        },
+        rebound: p.rebound.law(),
         restitution: p.restitution,
         scatter: p.scatter_angle.to_radians(),
         rest_speed: p.rest_speed,
@@ -229,119 +193,6 @@ fn erosion_laws(e: &ErosionParams) -> Option<Laws> {
             Some((law(coating), law(substrate)))
         }
     }
-}
-
-fn surface(shape: &TargetShape) -> Surface {
-    match shape {
-        &TargetShape::Rectangle {
-            center,
-            normal,
-            up,
-            size,
-            resolution,
-            splat_radius,
-            edges,
-            ref openings,
-        } => {
-            let face = Face::new(v3(center), v3(normal), v3(up), size);
-            let [cols, rows] = resolution.map(|r| r as usize);
-            let rect = RectangleSurface::new(face, cols, rows, splat_radius)
-                .with_held_edges(edges == Edges::Held)
-                .with_openings(openings.iter().map(opening).collect());
-            Surface::Rectangle(rect)
-        }
-        &TargetShape::Cylinder { resolution, splat_radius, edges, .. } => {
-            let [cols, rows] = resolution.map(|r| r as usize);
-            // Reading checked the shell: its chart exists.
-            let chart = shell_chart(shape).unwrap_or_else(|| unreachable!("checked when read"));
-            let shell = CylinderSurface::new(chart, cols, rows, splat_radius);
-            Surface::Cylinder(shell.with_held_edges(edges == Edges::Held))
-        }
-        TargetShape::Mesh { mesh, side } => {
-            let triangles: Vec<Triangle> = mesh
-                .triangles
-                .iter()
-                .map(|&t| match side {
-                    MeshSide::Front => t,
-                    MeshSide::Back => {
-                        Triangle { corners: [t.corners[0], t.corners[2], t.corners[1]], normal: -t.normal }
-                    }
-                })
-                .collect();
-            // A mesh file with no triangle is refused when read.
-            Surface::Mesh(
-                MeshSurface::new(triangles).unwrap_or_else(|e| unreachable!("checked when read: {e}")),
-            )
-        }
-    }
-}
-
-/// The unrolled chart of a cylinder target.
-fn shell_chart(shape: &TargetShape) -> Option<ShellChart> {
-    let &TargetShape::Cylinder { center, axis, radius, length, angles, reference, side, .. } = shape else {
-        return None;
-    };
-    let angles = angles.map(f64::to_radians);
-    let shell = CylinderShell::new(v3(center), v3(axis), v3(reference), radius, length, angles)?;
-    Some(ShellChart { shell, inside: side == ShellSide::Inside })
-}
-
-/// A warning when a mesh's triangles are much larger than the spray's footprint: each triangle
-/// holds the mean of the spray over it, so a footprint needs several triangles across.
-fn coarse_mesh(sc: &Scenario, name: &str, triangles: &[Triangle]) -> Option<String> {
-    let mut sizes: Vec<f64> = triangles.iter().map(|t| (2.0 * t.area()).sqrt()).collect();
-    sizes.sort_by(f64::total_cmp);
-    let median = *sizes.get(sizes.len() / 2)?;
-    // The footprint's radius at the distance from the nozzle's start to the mesh's mean plane.
-    let (centre, ..) = mean_plane(triangles);
-    let nozzle = nozzle_path(sc).at(0.0).0.position;
-    let e = sc.emitter();
-    let half = match e.direction {
-        DirectionLaw::UniformPolar { cone_angle }
-        | DirectionLaw::TruncatedNormal { cone_angle, .. }
-        | DirectionLaw::UniformSolidAngle { cone_angle } => cone_angle / 2.0,
-        DirectionLaw::Fan { fan_narrow_angle, .. } => fan_narrow_angle / 2.0,
-    };
-    let footprint = nozzle.distance(centre) * half.to_radians().tan().max(1e-3);
-    (median > footprint).then(|| {
-        format!(
-            "target `{name}`: its triangles (median {median:.3} m across) are larger than the spray's footprint \
-             (about {footprint:.3} m in radius): each holds the mean of the spray over it; remesh finer, to \
-             about {:.3} m or less, for a thickness map",
-            footprint / 3.0
-        )
-    })
-}
-
-/// The collision shapes of an obstacle: one, or a mesh's triangles.
-fn obstacle_shapes(shape: &ObstacleShape) -> Vec<Shape> {
-    let one = match *shape {
-        ObstacleShape::Plane { center, normal } => {
-            Shape::Plane(Plane { point: v3(center), normal: v3(normal).normalize() })
-        }
-        ObstacleShape::Face { center, normal, up, size } => {
-            Shape::Face(Face::new(v3(center), v3(normal).normalize(), v3(up), size))
-        }
-        ObstacleShape::Disk { center, normal, radius } => {
-            Shape::Disk(Disk { center: v3(center), normal: v3(normal).normalize(), radius })
-        }
-        ObstacleShape::Sphere { center, radius } => Shape::Sphere(Sphere { center: v3(center), radius }),
-        ObstacleShape::Box { center, size, x_axis, y_axis } => {
-            let x = v3(x_axis).normalize();
-            let y = v3(y_axis);
-            let y = (y - x * y.dot(x)).normalize();
-            Shape::Box(OrientedBox {
-                center: v3(center),
-                axes: [x, y, x.cross(y)],
-                half_extents: DVec3::from_array(size) / 2.0,
-            })
-        }
-        ObstacleShape::Cylinder { start, end, radius } => {
-            Shape::Cylinder(Cylinder { a: v3(start), b: v3(end), radius })
-        }
-        ObstacleShape::Mesh(ref m) => return m.triangles.iter().map(|&t| Shape::Triangle(t)).collect(),
-    };
-    vec![one]
 }
 
 fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
@@ -381,35 +232,13 @@ fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
     }
 }
 
-/// The surface a raster over the target named `name` covers: a rectangle's face, a shell's
-/// unrolled chart, or the plane a mesh mostly faces.
-enum RasterChart {
-    Face(Face),
-    Shell(ShellChart),
-}
-
+/// The surface a raster over the target named `name` covers.
 fn raster_chart(sc: &Scenario, name: &str) -> Option<RasterChart> {
-    let t = sc.targets().iter().find(|t| t.name == name)?;
-    Some(match &t.shape {
-        &TargetShape::Rectangle { center, normal, up, size, .. } => {
-            RasterChart::Face(Face::new(v3(center), v3(normal), v3(up), size))
-        }
-        TargetShape::Cylinder { .. } => RasterChart::Shell(shell_chart(&t.shape)?),
-        TargetShape::Mesh { mesh, side } => {
-            let (centre, normal, up, size) = mean_plane(&mesh.triangles);
-            if *side == MeshSide::Back {
-                // The plane touches the mesh on its back: the nozzle stands off behind it.
-                let corners = mesh.triangles.iter().flat_map(|t| t.corners);
-                let deepest = corners.map(|p| (p - centre).dot(normal)).fold(0.0, f64::min);
-                RasterChart::Face(Face::new(centre + normal * deepest, -normal, up, size))
-            } else {
-                RasterChart::Face(Face::new(centre, normal, up, size))
-            }
-        }
-    })
+    sc.targets().iter().find(|t| t.name == name)?.shape.as_dyn().raster_chart()
 }
 
-fn nozzle_path(sc: &Scenario) -> NozzlePath {
+/// The nozzle's path in `sc`.
+pub(crate) fn nozzle_path(sc: &Scenario) -> NozzlePath {
     let n = sc.nozzle();
     let roll = n.roll.to_radians();
     match &n.motion {

@@ -153,9 +153,9 @@ pub enum InputProblem {
         "{variable}={value:?} is not a size: give a whole number of bytes above 0, optionally with KiB, MiB, GiB or TiB"
     )]
     BadCap {
-        /// The variable.
+        /// The environment variable's name (`SPRAYSIM_MAX_…`).
         variable: &'static str,
-        /// Its value.
+        /// What it holds, as given.
         value: String,
     },
     /// The file could not be opened or read.

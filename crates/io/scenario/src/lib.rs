@@ -40,7 +40,7 @@ pub use input::{InputError, InputKind, InputProblem, read_input};
 pub use mesh::{MAX_TRIANGLES, MeshError};
 pub use overrides::Value;
 pub use params::*;
-pub use presets::{SHOTCRETE_REBOUND_POLYNOMIAL, presets_toml};
+pub use presets::presets_toml;
 pub use reader::{Invalid, MAX_COORD};
 pub use scenario::{DEFAULT_SCENE, Scenario};
 pub use spraysim_engine::SimulationConfig;

@@ -10,7 +10,7 @@ use toml::de::{DeTable, DeValue};
 /// A value to set: a number, a boolean, a string, a list of numbers, or TOML text.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Value {
-    /// A number.
+    /// A number, written as a TOML float.
     Number(f64),
     /// A whole number.
     Integer(i64),

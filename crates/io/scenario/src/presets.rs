@@ -1,18 +1,15 @@
 //! Process presets: the defaults of the paper's Table 1, plus material density and flow rate.
 //!
 //! Where Table 1 gives a range, the default sits inside it; the comment beside each number says
-//! where it comes from. Every value can be overridden in a scenario.
+//! where it comes from. Every value can be overridden in a scenario. A preset chooses a rebound
+//! law; the law's own keys, with their defaults and sources, are declared with it, in
+//! `params/rebound/`.
 
 use crate::params::{
     ApertureKind, CohesionParams, DirectionKind, EmitterDefaults, ErosionDefaults, ErosionKind,
     ImpactDefaults, LayerDefaults, Preset, ProcessDefaults, ReboundKind, SlumpParams, WindowParams,
 };
-
-/// Default p_r(θ) coefficients in x = θ/90°: p_r = 0.10 + 2.4 x³. Passes through the public
-/// reference points: 10 % at normal incidence (ASA: 5–15 %, about 10 % on average), 12.6 % at
-/// 20° (vendors: 5–12 % with the nozzle square to the surface), 40 % at 45° (vendors: 30–50 %
-/// once the nozzle is more than 20° off square), and saturates at 1 beyond about 62°.
-pub const SHOTCRETE_REBOUND_POLYNOMIAL: [f64; 4] = [0.10, 0.0, 0.0, 2.4];
+use crate::reader::Choice;
 
 /// Failure switched off; strengths kept at the shotcrete values so that switching it on by
 /// `interval` alone gives sensible numbers.
@@ -40,49 +37,6 @@ const EROSION: ErosionDefaults = ErosionDefaults {
     substrate: LayerDefaults { hardness: 1.4, oka_e90: 6.2e-8, finnie_k: 3e-11 },
 };
 
-/// ACI 506R gradation No. 2 (ASTM C1436) for wet-mix shotcrete, mid-band: share of the
-/// aggregate volume finer than each sieve, with the 0.075 mm wash sieve as its lower end (what
-/// passes it belongs to the mortar), in m and shares.
-pub const GRADING_NO2: [[f64; 2]; 9] = [
-    [0.075e-3, 0.0],
-    [0.15e-3, 0.06],
-    [0.3e-3, 0.14],
-    [0.6e-3, 0.275],
-    [1.18e-3, 0.45],
-    [2.36e-3, 0.60],
-    [4.75e-3, 0.775],
-    [9.5e-3, 0.95],
-    [12.5e-3, 1.0],
-];
-
-/// The impact keys of a wet-mix shotcrete mix, which every preset carries for a model switched
-/// to the cushion law (each preset overrides the rest).
-fn mix() -> ImpactDefaults {
-    ImpactDefaults {
-        alpha: 1.0,
-        rebound_model: ReboundKind::Cushion,
-        rebound_polynomial: SHOTCRETE_REBOUND_POLYNOMIAL.to_vec(),
-        // The aggregate's share of the angle curve's rise: 2.4 (θ/90°)³ over normal incidence.
-        ricochet_polynomial: vec![0.0, 0.0, 0.0, 2.4],
-        // Sand 40–60 % and coarse aggregate 10–20 % of the volume (Morgan & Jolin 2022).
-        aggregate_fraction: 0.65,
-        grading: GRADING_NO2.to_vec(),
-        // A grain escapes a layer thinner than κ d: Poncelet penetration with bearing factor 9
-        // gives κ = 0.5–2.2 (Allen et al. 1957; Skempton 1951); 2.5 puts a wall inside ACI's
-        // 5–10 % (the one calibrated constant; see docs/validation.md).
-        capture_ratio: 4.0,
-        // A rebound lands at about 1 m/s, where the same penetration law sinks a grain into a
-        // cushion deeper than about 0.1 d: half-embedded is conservative.
-        trap_ratio: 0.5,
-        restitution: 0.04,
-        scatter_angle: 5.0,
-        rest_speed: 0.5,
-        rest_max_slope: 90.0,
-        // 1.5–2 largest grains: a cushion is a layer, not one particle's splat.
-        cushion_radius: 0.02,
-    }
-}
-
 impl Preset {
     /// The `[process]` defaults of this preset.
     #[allow(clippy::too_many_lines, reason = "a data table: one entry per preset")]
@@ -98,11 +52,13 @@ impl Preset {
                     alpha: 1.0, // Table 1: the angle-based law governs rebound
                     // Aggregate rebounds off a hard surface, is caught by a plastic cushion.
                     rebound_model: ReboundKind::Cushion,
+                    rebound: None,
                     restitution: 0.04,    // Table 1: 0.03–0.05
                     scatter_angle: 5.0,   // Table 1: "small angular noise"
                     rest_speed: 0.5,      // m/s; slower rebounds stay put
                     rest_max_slope: 90.0, // wet mix holds on any face that is not an overhang
-                    ..mix()
+                    // 1.5–2 largest grains, m: a cushion is a layer, not one particle's splat.
+                    cushion_radius: 0.02,
                 },
                 // Wet-mix is placed at 40–80 mm slump (ACI 506R); the slump–yield relation of Hu
                 // and de Larrard, τ₀ = ρ (300 − s)/270 (Ferraris & de Larrard 1998; Roussel
@@ -136,12 +92,12 @@ impl Preset {
                 impact: ImpactDefaults {
                     alpha: 0.0, // Table 1: rebound suppressed, every impact adheres
                     rebound_model: ReboundKind::Polynomial,
+                    rebound: None,
                     restitution: 0.0,   // Table 1: N/A
                     scatter_angle: 0.0, // Table 1: negligible
                     rest_speed: 0.0,
                     rest_max_slope: 45.0,
                     cushion_radius: 0.0,
-                    ..mix()
                 },
                 // Table 1: no cohesive failure; a film's slump is the sag and drip model (its
                 // 120 µm sag limit is a yield stress of ρ g t ≈ 1.4 Pa).
@@ -163,12 +119,12 @@ impl Preset {
                 impact: ImpactDefaults {
                     alpha: 1.0,
                     rebound_model: ReboundKind::Always, // Table 1: forced rebound, p_r ≡ 1
-                    restitution: 0.75,                  // Table 1: 0.6–0.9
-                    scatter_angle: 20.0,                // Table 1: moderate–large
-                    rest_speed: 0.5,                    // grains come to rest on the floor
+                    rebound: None,
+                    restitution: 0.75,   // Table 1: 0.6–0.9
+                    scatter_angle: 20.0, // Table 1: moderate–large
+                    rest_speed: 0.5,     // grains come to rest on the floor
                     rest_max_slope: 45.0,
                     cushion_radius: 0.0,
-                    ..mix()
                 },
                 // Table 1: no cohesive failure; dry grit does not slump.
                 slump: SLUMP_OFF,
@@ -231,7 +187,8 @@ impl Preset {
     }
 }
 
-/// Unit (or meaning) of each preset key, printed beside it by [`presets_toml`].
+/// Unit (or meaning) of each preset key, printed beside it by [`presets_toml`]; the rebound
+/// law's keys are the law's own (see `ReboundModel::notes`), and `rebound_model` lists the laws.
 const UNITS: &[(&str, &str)] = &[
     ("density", "kg/m³"),
     ("flow_rate", "m³/s while spraying"),
@@ -239,12 +196,6 @@ const UNITS: &[(&str, &str)] = &[
     ("max_lifetime", "s"),
     ("coverage_threshold", "m"),
     ("alpha", "P(rebound) = α · p_r(θ), 0–1"),
-    ("rebound_model", "polynomial | cushion | always | never"),
-    ("rebound_polynomial", "p_r = Σ cᵢ (θ/90°)ⁱ, θ from the normal (cushion: the ricochet share)"),
-    ("aggregate_fraction", "volume share of aggregate grains, 0–1"),
-    ("grading", "[[diameter in m, share finer], …]"),
-    ("capture_ratio", "a grain bounces off a layer thinner than this × its diameter"),
-    ("trap_ratio", "a rebound stays in a layer at least this × its diameter deep"),
     ("cushion_radius", "m, the layer under an impact is averaged over it"),
     ("restitution", "rebound speed / impact speed"),
     ("scatter_angle", "degrees, half-angle about the specular direction"),
@@ -348,8 +299,10 @@ pub fn presets_toml() -> String {
     }
     let mut out =
         String::from("# Process presets (the paper's Table 1). Paste one block into a scenario and edit.\n");
+    let laws = ReboundKind::NAMES.iter().map(|(name, _)| *name).collect::<Vec<_>>().join(" | ");
     for preset in Preset::ALL {
         let sections = Sections { process: preset.resolved_process(), emitter: preset.resolved_emitter() };
+        let law_notes = sections.process.impact.rebound.as_dyn().notes();
         let text = toml::to_string(&sections).unwrap_or_else(|e| panic!("presets always serialise: {e}"));
         out.push_str(&format!("\n# ---- {} ----\n", preset.name()));
         let mut section = "";
@@ -367,7 +320,10 @@ pub fn presets_toml() -> String {
                     .or_else(|| table.iter().find(|(k, _)| *k == key))
                     .map(|(_, u)| *u)
             };
-            let unit = lookup(UNITS);
+            let unit = match key {
+                "rebound_model" => Some(laws.as_str()),
+                _ => lookup(UNITS).or_else(|| lookup(law_notes)),
+            };
             match (unit, source(preset, &full).or_else(|| source(preset, key))) {
                 (Some(u), Some(s)) => out.push_str(&format!("{line:<46} # {u}; {s}\n")),
                 (Some(u), None) => out.push_str(&format!("{line:<46} # {u}\n")),

@@ -141,7 +141,7 @@ pub(crate) fn key_text(k: &str) -> Cow<'_, str> {
 /// An item of a list that takes numbers and words (`[0.5, 2.0, "end"]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum NumberOrWord {
-    /// A number.
+    /// A number, as given.
     Number(f64),
     /// One of the words the list takes.
     Word(&'static str),
@@ -343,7 +343,7 @@ impl<'a> Section<'a> {
         }
     }
 
-    /// A string.
+    /// A string of any content, or `default` when absent.
     pub fn string(&self, k: &str, default: Option<&str>) -> Read<String> {
         let key = self.key(k);
         match self.raw(k) {
@@ -480,6 +480,16 @@ impl<'a> Section<'a> {
             Some(k) => bad(&self.key(k), format!("is not a key of {context} (see docs/scenario.md)")),
         }
     }
+}
+
+/// Checks that the directions `a` (read from `key`) and `b` (read from the key named `what`)
+/// are not parallel: the sine of their angle above 1e-6.
+pub(crate) fn not_parallel(key: &str, a: [f64; 3], b: [f64; 3], what: &str) -> Read<()> {
+    let (a, b) = (glam::DVec3::from_array(a).normalize(), glam::DVec3::from_array(b).normalize());
+    if a.cross(b).length() < 1e-6 {
+        return bad(key, format!("must not be parallel to {what}"));
+    }
+    Ok(())
 }
 
 /// Checks a number read from `key`.

@@ -165,13 +165,12 @@ impl Scenario {
             &process.preset.emitter_defaults(),
             simulation.duration,
         )?;
-        let preset = process.preset.defaults().impact;
         let mut names = Vec::new();
         let targets = (root.tables("target")?.iter())
-            .map(|t| read::target(t, &mut names, &process.impact, &preset, &source.base))
+            .map(|t| read::target(t, &mut names, &process.impact, &source.base))
             .collect::<Read<Vec<_>>>()?;
         let obstacles = (root.tables("obstacle")?.iter())
-            .map(|o| read::obstacle(o, &mut names, &process.impact, &preset, &source.base))
+            .map(|o| read::obstacle(o, &mut names, &process.impact, &source.base))
             .collect::<Read<Vec<_>>>()?;
         let nozzle =
             read::nozzle(&root.table_or_empty("nozzle")?, &source.base, &targets, simulation.duration)?;
@@ -215,22 +214,22 @@ impl Scenario {
         &self.source.origin
     }
 
-    /// `[simulation]`.
+    /// `[simulation]`: the time step, duration, seed, gravity and memory limit.
     pub fn simulation(&self) -> &SimulationParams {
         &self.simulation
     }
 
-    /// `[process]`.
+    /// `[process]`: the material and its models.
     pub fn process(&self) -> &ProcessParams {
         &self.process
     }
 
-    /// `[emitter]`.
+    /// `[emitter]`: the particles' start, number, speed and directions.
     pub fn emitter(&self) -> &EmitterParams {
         &self.emitter
     }
 
-    /// `[nozzle]`.
+    /// `[nozzle]`: the nozzle's motion.
     pub fn nozzle(&self) -> &NozzleParams {
         &self.nozzle
     }
@@ -245,38 +244,28 @@ impl Scenario {
         &self.targets
     }
 
-    /// `[domain]`.
+    /// `[domain]`: the box beyond which particles are retired, m.
     pub fn domain(&self) -> &DomainParams {
         &self.domain
     }
 
-    /// `[output]`.
+    /// `[output]`: what is written, and where.
     pub fn output(&self) -> &OutputParams {
         &self.output
     }
 }
 
-/// Bounding box of the nozzle's positions, every target and every bounded obstacle (each
-/// vertex of a mesh), grown by 1 m. A raster's path lies within its target's box grown by the
-/// standoff, the lead and the circle.
+/// Bounding box of the nozzle's positions, every target (each as far as it reaches around its
+/// anchor points, each vertex of a mesh) and the boxes of every obstacle's bounded engine shapes,
+/// grown by 1 m. A raster's path lies within its target's reach grown by the standoff, the lead
+/// and the circle.
 fn default_domain(
     nozzle: &NozzleParams,
     targets: &[TargetParams],
     obstacles: &[ObstacleParams],
 ) -> DomainParams {
     let mut points: Vec<[f64; 3]> = Vec::new();
-    // Each target's anchor points and how far around them it reaches, m.
-    let target_reach = |t: &TargetParams| -> (Vec<[f64; 3]>, f64) {
-        match &t.shape {
-            TargetShape::Rectangle { center, size, .. } => (vec![*center], size[0].hypot(size[1]) / 2.0),
-            TargetShape::Cylinder { center, radius, length, .. } => {
-                (vec![*center], radius.hypot(length / 2.0))
-            }
-            TargetShape::Mesh { mesh, .. } => {
-                (mesh.triangles.iter().flat_map(|t| t.corners.map(|c| c.to_array())).collect(), 0.0)
-            }
-        }
-    };
+    let target_reach = |t: &TargetParams| t.shape.as_dyn().reach();
     match &nozzle.motion {
         NozzleMotion::Static { position, .. } => points.push(*position),
         NozzleMotion::Circling { position, circle_radius, .. } => {
@@ -303,25 +292,9 @@ fn default_domain(
             points.push(p.map(|c| c + reach));
         }
     }
-    for o in obstacles {
-        let (anchors, reach): (Vec<[f64; 3]>, f64) = match &o.shape {
-            ObstacleShape::Plane { .. } => continue,
-            ObstacleShape::Face { center, size, .. } => (vec![*center], size[0].hypot(size[1])),
-            ObstacleShape::Disk { center, radius, .. } | ObstacleShape::Sphere { center, radius } => {
-                (vec![*center], *radius)
-            }
-            ObstacleShape::Box { center, size, .. } => {
-                (vec![*center], size.iter().map(|v| v * v).sum::<f64>().sqrt())
-            }
-            ObstacleShape::Cylinder { start, end, radius } => (vec![*start, *end], *radius),
-            ObstacleShape::Mesh(m) => {
-                (m.triangles.iter().flat_map(|t| t.corners.map(|c| c.to_array())).collect(), 0.0)
-            }
-        };
-        for p in anchors {
-            points.push(p.map(|c| c - reach));
-            points.push(p.map(|c| c + reach));
-        }
+    for b in obstacles.iter().filter_map(|o| o.shape.bounds()) {
+        points.push(b.min.to_array());
+        points.push(b.max.to_array());
     }
     let mut min = [f64::INFINITY; 3];
     let mut max = [f64::NEG_INFINITY; 3];

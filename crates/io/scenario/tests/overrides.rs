@@ -1,6 +1,6 @@
 //! Overrides by dotted key: checked like the file, named in errors, and reproducible.
 
-use spraysim_scenario::{Scenario, ScenarioError, TargetShape, Value};
+use spraysim_scenario::{RectangleTarget, Scenario, ScenarioError, TargetShape, Value};
 
 #[test]
 fn an_override_changes_one_value_and_keeps_the_rest() {
@@ -9,7 +9,9 @@ fn an_override_changes_one_value_and_keeps_the_rest() {
     assert_eq!(sc.emitter().spawn_rate, 2e4);
     assert_eq!(sc.emitter().speed, base.emitter().speed);
     let sc = sc.with("target[1].resolution", Value::Toml("[40, 30]".into())).expect("valid");
-    let TargetShape::Rectangle { resolution, .. } = sc.targets()[1].shape else { panic!("a rectangle") };
+    let TargetShape::Rectangle(RectangleTarget { resolution, .. }) = sc.targets()[1].shape else {
+        panic!("a rectangle")
+    };
     assert_eq!(resolution, [40, 30]);
     // A table the file does not have is created.
     let sc = sc.with("process.cohesion.interval", 0.0).expect("valid");

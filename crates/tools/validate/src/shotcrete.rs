@@ -7,7 +7,7 @@ use spraysim_engine::collision::Face;
 use spraysim_engine::deposit::{DepositSurface, RectangleSurface};
 use spraysim_engine::motion::GRAVITY;
 use spraysim_engine::process::layer::relax;
-use spraysim_scenario::{Preset, ProcessParams, ReboundParams, Scenario};
+use spraysim_scenario::{CushionLaw, Preset, ProcessParams, ReboundParams, Scenario};
 use std::f64::consts::PI;
 
 /// ACI 506R's typical rebound of wet-mix shotcrete, as shares: floors, walls, overheads.
@@ -44,7 +44,7 @@ pub fn application_thickness(angle_deg: f64, design: f64) -> f64 {
 /// aggregate fraction, κ the capture ratio and S(d) the share of the aggregate coarser than d
 /// (the preset's grading, log-linear between sieves).
 pub fn uniform_build_loss(thickness: f64) -> f64 {
-    let ReboundParams::Cushion { aggregate_fraction, grading, capture_ratio, .. } =
+    let ReboundParams::Cushion(CushionLaw { aggregate_fraction, grading, capture_ratio, .. }) =
         shotcrete().impact.rebound
     else {
         return f64::NAN;

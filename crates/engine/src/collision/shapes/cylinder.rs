@@ -1,6 +1,6 @@
 //! Solid capped cylinders: rebar, pipes.
 
-use super::{Primitive, entry_root};
+use super::{Primitive, Tessellation, basis, entry_root, tessellation::ROUND};
 use crate::collision::flight::{Flight, derivative, eval, first_entry, hit_at, roots, squared_norm};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
@@ -108,6 +108,33 @@ impl Primitive for Cylinder {
         let s = (p - self.a).dot(u);
         let radial = (p - self.a) - u * s;
         s > 0.0 && s < len && radial.length_squared() < self.radius * self.radius
+    }
+
+    /// The mantle (a ring of vertices at each cap, radial normals) and the two caps; nothing for
+    /// a bar of no length.
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let mut t = Tessellation::default();
+        let Some(n) = (self.b - self.a).try_normalize() else { return Some(t) };
+        let (u, v) = basis(n);
+        let ring = |k: usize| {
+            let a = std::f64::consts::TAU * k as f64 / ROUND as f64;
+            u * a.cos() + v * a.sin()
+        };
+        for k in 0..ROUND {
+            let r = ring(k);
+            t.vertex(self.a + r * self.radius, r);
+            t.vertex(self.b + r * self.radius, r);
+        }
+        for k in 0..ROUND as u32 {
+            let (a0, b0) = (2 * k, 2 * k + 1);
+            let next = (k + 1) % ROUND as u32;
+            let (a1, b1) = (2 * next, 2 * next + 1);
+            t.triangles.extend([[a0, a1, b1], [a0, b1, b0]]);
+        }
+        for (centre, normal) in [(self.a, -n), (self.b, n)] {
+            t.disk(centre, (u, v), self.radius, normal);
+        }
+        Some(t)
     }
 }
 

@@ -1,12 +1,12 @@
 //! Flat disks.
 
-use super::Primitive;
 use super::plane::{facing, plane_crossing, plane_hit};
+use super::{Primitive, Tessellation, basis};
 use crate::collision::flight::Flight;
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
-/// Flat disk; two-sided.
+/// Flat disk (a round plate); two-sided.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Disk {
     /// Centre, m.
@@ -39,5 +39,11 @@ impl Primitive for Disk {
         // Extent of a disk along world axis i is r·sqrt(1 − n_i²).
         let e = (DVec3::ONE - self.normal * self.normal).max(DVec3::ZERO).map(f64::sqrt) * self.radius;
         Some(Aabb { min: self.center - e, max: self.center + e })
+    }
+
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let mut t = Tessellation::default();
+        t.disk(self.center, basis(self.normal), self.radius, self.normal);
+        Some(t)
     }
 }

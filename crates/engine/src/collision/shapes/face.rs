@@ -1,7 +1,7 @@
 //! Finite rectangles: target faces and wall panels.
 
-use super::Primitive;
 use super::plane::{facing, plane_crossing, plane_hit};
+use super::{Primitive, Tessellation};
 use crate::collision::flight::Flight;
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
@@ -79,5 +79,13 @@ impl Primitive for Face {
     fn aabb(&self) -> Option<Aabb> {
         let e = (self.right * self.half_width).abs() + (self.up * self.half_height).abs();
         Some(Aabb { min: self.center - e, max: self.center + e })
+    }
+
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let (u, v) = (self.right * self.half_width, self.up * self.half_height);
+        let c = self.center;
+        let mut t = Tessellation::default();
+        t.quad([c - u - v, c + u - v, c + u + v, c - u + v], self.normal);
+        Some(t)
     }
 }

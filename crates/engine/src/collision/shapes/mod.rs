@@ -1,11 +1,12 @@
 //! The shapes a particle can strike, one file each, behind one trait.
 //!
 //! A shape answers four questions ([`Primitive`]): the earliest hit of a straight segment, the
-//! earliest hit of a ballistic arc, its bounding box, and whether a point lies inside it. The
-//! built-in shapes are listed once, in the `shapes!` invocation below, which generates the
-//! [`Shape`] enum and its dispatch; a shape defined outside the engine goes in
-//! [`Shape::Custom`]. Adding a built-in shape is: a file here, a line in that list, and its
-//! parameters in the scenario crate.
+//! earliest hit of a ballistic arc, its bounding box, and whether a point lies inside it; it
+//! may also give the triangles that draw it ([`Primitive::tessellate`]). The built-in shapes
+//! are listed once, in the `shapes!` invocation below, which generates the [`Shape`] enum and
+//! its dispatch; a shape defined outside the engine goes in [`Shape::Custom`]. Adding a
+//! built-in shape is a file here and a line (with its `mod`) in that list; a scenario names it
+//! through a file in the scenario crate's `params/obstacles/`.
 
 mod aabb;
 mod cylinder;
@@ -15,6 +16,7 @@ mod oriented_box;
 mod plane;
 mod shell;
 mod sphere;
+mod tessellation;
 mod triangle;
 
 pub use aabb::Aabb;
@@ -25,7 +27,10 @@ pub use oriented_box::OrientedBox;
 pub use plane::Plane;
 pub use shell::CylinderShell;
 pub use sphere::Sphere;
+pub use tessellation::Tessellation;
 pub use triangle::Triangle;
+
+use tessellation::basis;
 
 use super::Hit;
 use super::flight::Flight;
@@ -50,6 +55,14 @@ pub trait Primitive: Send + Sync + std::fmt::Debug {
     fn contains(&self, p: DVec3) -> bool {
         let _ = p;
         false
+    }
+
+    /// Triangles that draw the shape, for viewers; an unbounded shape draws the part of it within
+    /// `extent` (m) of its point nearest `around`. `None` (the default): the shape gives none,
+    /// and a viewer draws the edges of its bounding box instead.
+    fn tessellate(&self, around: DVec3, extent: f64) -> Option<Tessellation> {
+        let _ = (around, extent);
+        None
     }
 }
 
@@ -94,6 +107,13 @@ macro_rules! shapes {
                     Shape::Custom(s) => s.contains(p),
                 }
             }
+
+            fn tessellate(&self, around: DVec3, extent: f64) -> Option<Tessellation> {
+                match self {
+                    $( Shape::$variant(s) => s.tessellate(around, extent), )*
+                    Shape::Custom(s) => s.tessellate(around, extent),
+                }
+            }
         }
 
         impl PartialEq for Shape {
@@ -110,21 +130,21 @@ macro_rules! shapes {
 }
 
 shapes! {
-    /// Infinite plane.
+    /// An infinite plane, two-sided.
     Plane(Plane),
-    /// Finite rectangle.
+    /// A finite rectangle, two-sided.
     Face(Face),
-    /// Disk.
+    /// A flat disk, two-sided.
     Disk(Disk),
-    /// Sphere.
+    /// A solid sphere.
     Sphere(Sphere),
-    /// Oriented box.
+    /// A solid box on axes of its own.
     Box(OrientedBox),
-    /// Capped cylinder.
+    /// A solid cylinder with flat caps (a bar).
     Cylinder(Cylinder),
-    /// Mesh triangle.
+    /// One triangle of a mesh, two-sided.
     Triangle(Triangle),
-    /// Open cylindrical shell over a range of angles.
+    /// An open cylindrical shell over a range of angles.
     Shell(CylinderShell),
 }
 

@@ -1,6 +1,6 @@
 //! Solid boxes with any orientation.
 
-use super::Primitive;
+use super::{Primitive, Tessellation};
 use crate::collision::flight::{Flight, derivative, eval, hit_at, roots};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
@@ -102,6 +102,25 @@ impl Primitive for OrientedBox {
     fn contains(&self, p: DVec3) -> bool {
         let d = p - self.center;
         (0..3).all(|i| d.dot(self.axes[i]).abs() < self.half_extents[i])
+    }
+
+    /// Six quads, each with its outward normal.
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let e = [
+            self.axes[0] * self.half_extents.x,
+            self.axes[1] * self.half_extents.y,
+            self.axes[2] * self.half_extents.z,
+        ];
+        let mut t = Tessellation::default();
+        for i in 0..3 {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            for sign in [-1.0, 1.0] {
+                let c = self.center + e[i] * sign;
+                let (p, q) = (e[j], e[k] * sign);
+                t.quad([c - p - q, c + p - q, c + p + q, c - p + q], self.axes[i] * sign);
+            }
+        }
+        Some(t)
     }
 }
 

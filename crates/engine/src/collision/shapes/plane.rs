@@ -1,6 +1,6 @@
 //! Infinite planes, and the plane crossing every flat shape is built on.
 
-use super::Primitive;
+use super::{Face, Primitive, Tessellation, basis};
 use crate::collision::flight::{Flight, eval, hit_at, roots};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
@@ -27,6 +27,14 @@ impl Primitive for Plane {
 
     fn aabb(&self) -> Option<Aabb> {
         None
+    }
+
+    /// The square of half-side `extent` (m) on the plane, centred on its point nearest `around`.
+    fn tessellate(&self, around: DVec3, extent: f64) -> Option<Tessellation> {
+        let center = around - self.normal * (around - self.point).dot(self.normal);
+        let (right, up) = basis(self.normal);
+        let square = Face { center, normal: self.normal, up, right, half_width: extent, half_height: extent };
+        square.tessellate(around, extent)
     }
 }
 

@@ -1,7 +1,7 @@
 //! Cylindrical shells: tunnel linings, shafts, pipes and tanks, open at both ends and bounded
 //! to a range of angles.
 
-use super::Primitive;
+use super::{Primitive, Tessellation, tessellation::ROUND};
 use crate::collision::flight::{Flight, derivative, eval, hit_at, roots, squared_norm};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
@@ -15,7 +15,7 @@ use std::f64::consts::TAU;
 pub struct CylinderShell {
     /// Centre of the axis segment, m.
     pub center: DVec3,
-    /// Unit axis.
+    /// Unit direction of the axis (lengths along it are measured from `center`).
     pub axis: DVec3,
     /// Unit direction from the axis at angle 0.
     pub e1: DVec3,
@@ -187,6 +187,26 @@ impl Primitive for CylinderShell {
             }
         }
         Some(b)
+    }
+
+    /// The angular range in strips of at most a `ROUND`th of a turn, normals outwards.
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let [a0, a1] = self.angles;
+        let strips = ((a1 - a0) / TAU * ROUND as f64).ceil().max(1.0) as usize;
+        let mut t = Tessellation::default();
+        for k in 0..strips {
+            let (t0, t1) =
+                (a0 + (a1 - a0) * k as f64 / strips as f64, a0 + (a1 - a0) * (k + 1) as f64 / strips as f64);
+            let l = self.half_length;
+            let corners = [
+                self.point(t0, -l, self.radius),
+                self.point(t1, -l, self.radius),
+                self.point(t1, l, self.radius),
+                self.point(t0, l, self.radius),
+            ];
+            t.quad(corners, self.radial(0.5 * (t0 + t1)));
+        }
+        Some(t)
     }
 }
 

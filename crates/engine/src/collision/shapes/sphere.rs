@@ -1,11 +1,11 @@
 //! Solid spheres.
 
-use super::{Primitive, entry_root};
+use super::{Primitive, Tessellation, entry_root, tessellation::ROUND};
 use crate::collision::flight::{Flight, first_entry, hit_at, squared_norm};
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
 
-/// Solid sphere.
+/// Solid sphere (a ball, a boulder): a path that starts inside it is pushed out.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
     /// Centre, m.
@@ -48,5 +48,27 @@ impl Primitive for Sphere {
 
     fn contains(&self, p: DVec3) -> bool {
         (p - self.center).length_squared() < self.radius * self.radius
+    }
+
+    /// A latitude-longitude grid: `ROUND / 2` bands of `ROUND` quads from pole to pole.
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let rows = ROUND / 2;
+        let mut t = Tessellation::default();
+        for i in 0..=rows {
+            let polar = std::f64::consts::PI * i as f64 / rows as f64;
+            for k in 0..=ROUND {
+                let a = std::f64::consts::TAU * k as f64 / ROUND as f64;
+                let n = DVec3::new(polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos());
+                t.vertex(self.center + n * self.radius, n);
+            }
+        }
+        let w = ROUND as u32 + 1;
+        for i in 0..rows as u32 {
+            for k in 0..ROUND as u32 {
+                let (a, b) = (i * w + k, (i + 1) * w + k);
+                t.triangles.extend([[a, b, b + 1], [a, b + 1, a + 1]]);
+            }
+        }
+        Some(t)
     }
 }

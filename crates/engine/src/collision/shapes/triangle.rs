@@ -1,7 +1,7 @@
 //! Mesh triangles.
 
-use super::Primitive;
 use super::plane::{facing, plane_crossing, plane_hit};
+use super::{Primitive, Tessellation};
 use crate::collision::flight::Flight;
 use crate::collision::{Aabb, Hit};
 use glam::DVec3;
@@ -56,5 +56,14 @@ impl Primitive for Triangle {
     fn aabb(&self) -> Option<Aabb> {
         let [a, b, c] = self.corners;
         Some(Aabb { min: a.min(b).min(c), max: a.max(b).max(c) })
+    }
+
+    fn tessellate(&self, _around: DVec3, _extent: f64) -> Option<Tessellation> {
+        let mut t = Tessellation::default();
+        for c in self.corners {
+            t.vertex(c, self.normal);
+        }
+        t.triangles.push([0, 1, 2]);
+        Some(t)
     }
 }

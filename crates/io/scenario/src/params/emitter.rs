@@ -92,17 +92,18 @@ choices!(DirectionKind {
     "fan" => DirectionKind::Fan,
 });
 
-/// `[emitter]`.
+/// `[emitter]`: where on the nozzle particles start, how many, how fast and in which
+/// directions.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EmitterParams {
-    /// Aperture.
+    /// The nozzle's opening, where particles start: `shape` and its size keys.
     #[serde(flatten)]
     pub aperture: Aperture,
     /// Particles emitted per second while spraying, 1/s.
     pub spawn_rate: f64,
     /// Emission speed range `[min, max]`, sampled uniformly, m/s.
     pub speed: [f64; 2],
-    /// Direction law.
+    /// How directions spread about the spray axis: `direction` and its angle keys.
     #[serde(flatten)]
     pub direction: DirectionLaw,
 }

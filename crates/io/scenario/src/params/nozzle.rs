@@ -1,7 +1,7 @@
 //! `[nozzle]`: where the spray comes from: a static pose, a circling nozzle, time-stamped
 //! waypoints (or a robot tool path read into them), or a raster over a target.
 
-use super::surfaces::TargetParams;
+use super::targets::TargetParams;
 use crate::reader::{Check, Read, Section, bad, choices};
 use serde::Serialize;
 use spraysim_engine::emission::{PassDirection, RasterPlan};
@@ -9,7 +9,7 @@ use std::path::Path;
 
 choices!(PassDirection { "horizontal" => PassDirection::Horizontal, "vertical" => PassDirection::Vertical });
 
-/// `[nozzle]`.
+/// `[nozzle]`: how the nozzle moves and whether its own velocity adds to the particles'.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct NozzleParams {
     /// Roll of the aperture about the axis, degrees. At 0 the width axis is horizontal.
@@ -50,7 +50,7 @@ pub enum NozzleMotion {
     },
     /// A zig-zag over a target.
     Raster {
-        /// The raster.
+        /// The target, the rectangle of it covered and the passes (`[nozzle.raster]`).
         raster: RasterParams,
     },
 }

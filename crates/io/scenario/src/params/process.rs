@@ -1,6 +1,7 @@
 //! `[process]`: the material and what happens on impact, with `[process.impact]`,
 //! `[process.slump]`, `[process.cohesion]`, `[process.erosion]` and `[process.window]`.
 
+use super::rebound::{ReboundKind, ReboundParams};
 use crate::reader::{Check, Read, Section, choices};
 use serde::Serialize;
 
@@ -33,7 +34,8 @@ impl Preset {
     }
 }
 
-/// `[process]`.
+/// `[process]`: the material, what happens on impact and what happens to the layers, from a
+/// preset's defaults.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ProcessParams {
     /// The preset that supplied the defaults.
@@ -63,54 +65,6 @@ pub struct ProcessParams {
     pub erosion: ErosionParams,
     /// Recommended working window of the nozzle, for the path-quality metrics.
     pub window: WindowParams,
-}
-
-/// Which rebound curve p_r(θ) applies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum ReboundKind {
-    Polynomial,
-    Cushion,
-    Always,
-    Never,
-}
-
-choices!(ReboundKind {
-    "polynomial" => ReboundKind::Polynomial,
-    "cushion" => ReboundKind::Cushion,
-    "always" => ReboundKind::Always,
-    "never" => ReboundKind::Never,
-});
-
-/// The rebound curve p_r(θ), θ from the surface normal.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(tag = "rebound_model", rename_all = "snake_case")]
-pub enum ReboundParams {
-    /// p_r = Σ cᵢ xⁱ with x = θ/90°, clamped to [0, 1].
-    Polynomial {
-        /// Coefficients c₀, c₁, …, dimensionless.
-        rebound_polynomial: Vec<f64>,
-    },
-    /// Cushion capture: mortar sticks; an aggregate grain bounces off a plastic layer thinner
-    /// than `capture_ratio` × its diameter, and ricochets off a thicker one with the share
-    /// `rebound_polynomial` of the angle curve.
-    Cushion {
-        /// Ricochet curve: coefficients of Σ cᵢ xⁱ, x = θ/90°, dimensionless.
-        rebound_polynomial: Vec<f64>,
-        /// Volume share of aggregate grains in the mix, 0..1.
-        aggregate_fraction: f64,
-        /// Grading: `[diameter in m, share of the aggregate volume finer]` pairs, both
-        /// increasing, from share 0 to share 1.
-        grading: Vec<[f64; 2]>,
-        /// A grain bounces off a plastic layer thinner than this many times its diameter.
-        capture_ratio: f64,
-        /// A grain that has rebounded before stays in a plastic layer at least this many times
-        /// its diameter deep.
-        trap_ratio: f64,
-    },
-    /// p_r ≡ 1 (forced rebound).
-    Always,
-    /// p_r ≡ 0.
-    Never,
 }
 
 /// `[process.impact]`, `[target.impact]`, `[obstacle.impact]`: what happens on impact.
@@ -245,17 +199,14 @@ pub(crate) struct ProcessDefaults {
     pub drip_interval: f64,
 }
 
-/// Every impact key, whatever the rebound model.
+/// The defaults of an impact table.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct ImpactDefaults {
     pub alpha: f64,
     pub rebound_model: ReboundKind,
-    pub rebound_polynomial: Vec<f64>,
-    pub ricochet_polynomial: Vec<f64>,
-    pub aggregate_fraction: f64,
-    pub grading: Vec<[f64; 2]>,
-    pub capture_ratio: f64,
-    pub trap_ratio: f64,
+    /// A rebound law whose keys stand in for that law's own defaults: the process's law, for a
+    /// surface's table; `None` (a preset's): every law's own.
+    pub rebound: Option<ReboundParams>,
     pub restitution: f64,
     pub scatter_angle: f64,
     pub rest_speed: f64,
@@ -264,39 +215,19 @@ pub(crate) struct ImpactDefaults {
 }
 
 impl ImpactDefaults {
-    /// The resolved `impact` as defaults for a surface's override; `preset` fills the keys of
-    /// the models `impact` does not use, for an override that switches model.
-    pub fn over(impact: &ImpactParams, preset: &ImpactDefaults) -> ImpactDefaults {
-        let mut d = ImpactDefaults {
+    /// The resolved `impact` as defaults for a surface's override (a rebound law other than
+    /// `impact`'s takes its own defaults).
+    pub fn over(impact: &ImpactParams) -> ImpactDefaults {
+        ImpactDefaults {
             alpha: impact.alpha,
+            rebound_model: impact.rebound.kind(),
+            rebound: Some(impact.rebound.clone()),
             restitution: impact.restitution,
             scatter_angle: impact.scatter_angle,
             rest_speed: impact.rest_speed,
             rest_max_slope: impact.rest_max_slope,
             cushion_radius: impact.cushion_radius,
-            ..preset.clone()
-        };
-        match &impact.rebound {
-            ReboundParams::Polynomial { rebound_polynomial } => {
-                (d.rebound_model, d.rebound_polynomial) =
-                    (ReboundKind::Polynomial, rebound_polynomial.clone());
-            }
-            ReboundParams::Cushion {
-                rebound_polynomial,
-                aggregate_fraction,
-                grading,
-                capture_ratio,
-                trap_ratio,
-            } => {
-                d.rebound_model = ReboundKind::Cushion;
-                d.ricochet_polynomial = rebound_polynomial.clone();
-                (d.aggregate_fraction, d.grading) = (*aggregate_fraction, grading.clone());
-                (d.capture_ratio, d.trap_ratio) = (*capture_ratio, *trap_ratio);
-            }
-            ReboundParams::Always => d.rebound_model = ReboundKind::Always,
-            ReboundParams::Never => d.rebound_model = ReboundKind::Never,
         }
-        d
     }
 }
 
@@ -351,27 +282,7 @@ pub(crate) fn read(s: &Section<'_>, defaults: impl Fn(Preset) -> ProcessDefaults
 /// Reads an impact table over `d`: the process's own, or a surface's override of the process's.
 pub(crate) fn read_impact(s: &Section<'_>, d: &ImpactDefaults) -> Read<ImpactParams> {
     let kind = s.choice("rebound_model", Some(d.rebound_model))?;
-    let poly =
-        |default: &[f64]| s.list("rebound_polynomial", Some(default.to_vec()), 16, Check::Within(-1e6, 1e6));
-    let rebound = match kind {
-        ReboundKind::Polynomial => {
-            ReboundParams::Polynomial { rebound_polynomial: poly(&d.rebound_polynomial)? }
-        }
-        ReboundKind::Cushion => ReboundParams::Cushion {
-            rebound_polynomial: poly(&d.ricochet_polynomial)?,
-            aggregate_fraction: s.number(
-                "aggregate_fraction",
-                Some(d.aggregate_fraction),
-                Check::Within(0.0, 1.0),
-                "",
-            )?,
-            grading: read_grading(s, &d.grading)?,
-            capture_ratio: s.number("capture_ratio", Some(d.capture_ratio), Check::Within(0.0, 100.0), "")?,
-            trap_ratio: s.number("trap_ratio", Some(d.trap_ratio), Check::Within(0.0, 100.0), "")?,
-        },
-        ReboundKind::Always => ReboundParams::Always,
-        ReboundKind::Never => ReboundParams::Never,
-    };
+    let rebound = ReboundParams::read(kind, s, d.rebound.as_ref())?;
     let p = ImpactParams {
         alpha: s.number("alpha", Some(d.alpha), Check::Within(0.0, 1.0), "")?,
         rebound,
@@ -393,21 +304,6 @@ pub(crate) fn read_impact(s: &Section<'_>, d: &ImpactDefaults) -> Read<ImpactPar
     };
     s.finish(&format!("an impact table with rebound_model = \"{}\"", crate::reader::Choice::name(kind)))?;
     Ok(p)
-}
-
-/// A grading: `[diameter m, share finer]` pairs, both strictly increasing, from 0 to 1.
-fn read_grading(s: &Section<'_>, default: &[[f64; 2]]) -> Read<Vec<[f64; 2]>> {
-    let key = s.key("grading");
-    let g = s.pairs("grading", Some(default.to_vec()), 64)?;
-    let increasing = g.windows(2).all(|w| w[1][0] > w[0][0] && w[1][1] > w[0][1]);
-    let ends = g.first().is_some_and(|p| p[1] == 0.0) && g.last().is_some_and(|p| p[1] == 1.0);
-    if g.len() < 2 || !increasing || !ends || g.iter().any(|p| p[0] <= 0.0 || p[0] > 1.0) {
-        return crate::reader::bad(
-            &key,
-            "must list [diameter in m, share finer] with both increasing, diameters in (0, 1] m, from share 0 to share 1",
-        );
-    }
-    Ok(g)
 }
 
 fn read_slump(s: &Section<'_>, d: &SlumpParams) -> Read<SlumpParams> {
