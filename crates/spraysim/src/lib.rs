@@ -47,7 +47,13 @@ pub use spraysim_output as output;
 pub use spraysim_scenario as scenario;
 pub use spraysim_scenario::{Scenario, ScenarioError};
 
-/// The README's Rust example, compiled and run as a doctest so that it cannot drift.
+/// The README's Rust code blocks, if any, compiled and run as doctests so that they cannot drift.
 #[doc = include_str!("../../../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The Rust example of `docs/usage.md` (spraysim from Rust), compiled and run as a doctest so
+/// that it cannot drift.
+#[doc = include_str!("../../../docs/usage.md")]
+#[cfg(doctest)]
+pub struct UsageDoctests;

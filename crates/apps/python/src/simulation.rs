@@ -247,7 +247,7 @@ impl PySimulation {
     }
 
     /// The results so far as a dictionary equal to what `metrics.json` holds (keys, units and
-    /// values; see the README's Outputs section), less its `files` manifest.
+    /// values; see docs/outputs.md), less its `files` manifest.
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         convert::json_to_py(py, &self.metrics_json(py)?)
     }
