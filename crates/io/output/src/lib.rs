@@ -11,6 +11,7 @@ pub mod control;
 pub mod directory;
 pub mod export;
 pub mod heatmap;
+pub mod text;
 
 pub use directory::{FILE_LIST, OutputDir, STAGING_PREFIX};
 
