@@ -96,3 +96,24 @@ fn calibration_recovers_mu_and_sigma_from_a_synthetic_profile() {
     };
     assert_eq!((mu, sigma), (cal.fitted[0], cal.fitted[1]));
 }
+
+#[test]
+fn calibrating_a_run_that_deposits_nothing_is_an_error() {
+    // The example's nozzle turned to point straight up, away from its target.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let sc = Scenario::from_path(&root.join("calibrate.toml"))
+        .and_then(|s| {
+            s.with_all(&[
+                ("nozzle.waypoints[0].axis".into(), [0.0, 0.0, 1.0].into()),
+                ("nozzle.waypoints[1].axis".into(), [0.0, 0.0, 1.0].into()),
+                ("emitter.spawn_rate".into(), 2e4.into()),
+            ])
+        })
+        .expect("valid");
+    let measured = MeasuredProfile::from_path(&root.join("profile.csv")).expect("profile");
+    let settings = CalibrationSettings { threads: 1, ..Default::default() };
+    let Err(e) = calibrate(&sc, &measured, &settings, |_| {}) else {
+        panic!("a fit of nothing reported as a result")
+    };
+    assert!(e.to_string().contains("nothing to fit"), "{e}");
+}

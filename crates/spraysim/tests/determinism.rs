@@ -1,6 +1,7 @@
 //! Same scenario and seed, same bytes: whatever the thread count.
 
 use spraysim::Scenario;
+use spraysim_validate::scenes::{floor, wall};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -21,23 +22,10 @@ fn scene_with_bars(seed: u64, bars: u32) -> Scenario {
         spawn_rate = 40000.0
         cone_angle = 18.0
         direction = "uniform_solid_angle"
-        [[target]]
-        name = "wall"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [2.0, 2.0]
-        resolution = [256, 256]
-        splat_radius = 0.01
-        [[target]]
-        name = "floor"
-        role = "collector"
-        center = [-1.5, 0.0, 0.0]
-        normal = [0.0, 0.0, 1.0]
-        up = [1.0, 0.0, 0.0]
-        size = [4.0, 3.0]
-        resolution = [128, 96]
-        "#
+        {wall}{floor}
+        "#,
+        wall = wall().resolution(256, 256).splat_radius(0.01),
+        floor = floor().resolution(128, 96),
     );
     for i in 0..bars {
         let y = -0.3 + 0.15 * f64::from(i);

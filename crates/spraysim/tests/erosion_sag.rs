@@ -2,6 +2,7 @@
 
 use spraysim::deposit::DepositSurface;
 use spraysim::{Metrics, Scenario, Simulation};
+use spraysim_validate::scenes::wall;
 
 /// A wall under a `coating` m thick coat, blasted for 0.5 s from a nozzle 0.3 m away whose axis
 /// makes `gamma_deg` with the wall, with a spray cone of `cone_deg`.
@@ -22,15 +23,9 @@ fn blast(gamma_deg: f64, model: &str, cone_deg: f64, coating: f64) -> (Simulatio
         [nozzle]
         position = [{x}, 0.0, {z}]
         axis = [{ax}, 0.0, {az}]
-        [[target]]
-        name = "wall"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [1.0, 1.0]
-        resolution = [100, 100]
-        coating = {coating}
+        {wall}
         "#,
+        wall = wall().size(1.0, 1.0).resolution(100, 100).coating(coating),
         x = -0.3 * g.sin(),
         z = 1.0 + 0.3 * g.cos(),
         ax = g.sin(),

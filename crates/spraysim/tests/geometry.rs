@@ -112,11 +112,44 @@ fn brute_force(shape: &Shape, p0: DVec3, p1: DVec3) -> Option<f64> {
     }
 }
 
-fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
+/// The kinds of primitive the brute-force tests draw; a kind's number seeds its draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Plane = 0,
+    Face = 1,
+    Disk = 2,
+    Sphere = 3,
+    Box = 4,
+    Cylinder = 5,
+    Triangle = 6,
+    CylinderShell = 7,
+}
+
+impl Kind {
+    /// Every kind, in the order of their numbers.
+    const ALL: [Kind; 8] = [
+        Kind::Plane,
+        Kind::Face,
+        Kind::Disk,
+        Kind::Sphere,
+        Kind::Box,
+        Kind::Cylinder,
+        Kind::Triangle,
+        Kind::CylinderShell,
+    ];
+
+    /// The seed of this kind's draws, `offset` plus its number.
+    fn seed(self, offset: u64) -> u64 {
+        self as u64 + offset
+    }
+}
+
+/// A shape of `kind` near the origin, its size, orientation and place drawn from `rng`.
+fn random_shape(rng: &mut ChaCha8Rng, kind: Kind) -> Shape {
     let c = rand_vec(rng, 0.3);
     match kind {
-        0 => Shape::Plane(Plane { point: c, normal: rand_dir(rng) }),
-        1 => {
+        Kind::Plane => Shape::Plane(Plane { point: c, normal: rand_dir(rng) }),
+        Kind::Face => {
             let n = rand_dir(rng);
             let up = n.any_orthonormal_vector();
             Shape::Face(Face::new(
@@ -126,9 +159,11 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
                 [rng.random_range(0.1..1.0), rng.random_range(0.1..1.0)],
             ))
         }
-        2 => Shape::Disk(Disk { center: c, normal: rand_dir(rng), radius: rng.random_range(0.05..0.6) }),
-        3 => Shape::Sphere(Sphere { center: c, radius: rng.random_range(0.05..0.6) }),
-        4 => {
+        Kind::Disk => {
+            Shape::Disk(Disk { center: c, normal: rand_dir(rng), radius: rng.random_range(0.05..0.6) })
+        }
+        Kind::Sphere => Shape::Sphere(Sphere { center: c, radius: rng.random_range(0.05..0.6) }),
+        Kind::Box => {
             let x = rand_dir(rng);
             let y = rand_dir(rng).reject_from(x).normalize();
             Shape::Box(OrientedBox {
@@ -141,19 +176,19 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
                 ),
             })
         }
-        5 => Shape::Cylinder(Cylinder {
+        Kind::Cylinder => Shape::Cylinder(Cylinder {
             a: c,
             b: c + rand_dir(rng) * rng.random_range(0.1..1.0),
             radius: rng.random_range(0.02..0.4),
         }),
-        6 => loop {
+        Kind::Triangle => loop {
             if let Some(t) =
                 Triangle::new(c + rand_vec(rng, 0.9), c + rand_vec(rng, 0.9), c + rand_vec(rng, 0.9))
             {
                 break Shape::Triangle(t);
             }
         },
-        _ => {
+        Kind::CylinderShell => {
             let start = rng.random_range(-3.0..3.0);
             let span = rng.random_range(0.5..std::f64::consts::TAU);
             let shell = CylinderShell::new(
@@ -169,8 +204,9 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
     }
 }
 
-fn check_against_brute_force(kind: usize) {
-    let mut rng = ChaCha8Rng::seed_from_u64(kind as u64 + 100);
+/// 1000 segments against random shapes of `kind`: the exact hit is the brute-force walk's.
+fn check_against_brute_force(kind: Kind) {
+    let mut rng = ChaCha8Rng::seed_from_u64(kind.seed(100));
     let mut hits = 0;
     for _ in 0..1000 {
         let shape = random_shape(&mut rng, kind);
@@ -189,76 +225,76 @@ fn check_against_brute_force(kind: usize) {
                 hits += 1;
                 assert!(
                     h.t <= t + 1e-9 && h.t >= t - 2.0 * step,
-                    "{shape:?}: t = {} but brute force {t}",
+                    "{kind:?} {shape:?}: t = {} but brute force {t}",
                     h.t
                 );
                 assert!(h.point.distance(p0.lerp(p1, h.t)) < 1e-9);
                 assert!((h.normal.length() - 1.0).abs() < 1e-9);
                 assert!(
                     h.normal.dot(p1 - p0) <= 1e-12,
-                    "{shape:?}: normal does not face the incoming segment"
+                    "{kind:?} {shape:?}: normal does not face the incoming segment"
                 );
             }
-            (None, Some(t)) => panic!("{shape:?}: missed a hit at t = {t} from {p0} to {p1}"),
+            (None, Some(t)) => panic!("{kind:?} {shape:?}: missed a hit at t = {t} from {p0} to {p1}"),
             (Some(h), None) => {
                 // Thin surfaces: the sign-change reference is exact, so this is a false hit.
                 let thin = matches!(
                     shape,
                     Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) | Shape::Triangle(_) | Shape::Shell(_)
                 );
-                assert!(!thin, "{shape:?}: a hit at t = {} the reference does not see", h.t);
+                assert!(!thin, "{kind:?} {shape:?}: a hit at t = {} the reference does not see", h.t);
                 // Solids: a grazing chord shorter than the sampling step.
                 let ahead = p0.lerp(p1, (h.t + 2.0 * step).min(1.0));
                 assert!(
                     !shape.contains(ahead),
-                    "{shape:?}: brute force found no hit, algebra found t = {}",
+                    "{kind:?} {shape:?}: brute force found no hit, algebra found t = {}",
                     h.t
                 );
             }
             (None, None) => {}
         }
     }
-    assert!(hits > 100, "too few hits ({hits}) to test anything");
+    assert!(hits > 100, "{kind:?}: too few hits ({hits}) to test anything");
 }
 
 #[test]
 fn plane_matches_brute_force() {
-    check_against_brute_force(0);
+    check_against_brute_force(Kind::Plane);
 }
 
 #[test]
 fn face_matches_brute_force() {
-    check_against_brute_force(1);
+    check_against_brute_force(Kind::Face);
 }
 
 #[test]
 fn disk_matches_brute_force() {
-    check_against_brute_force(2);
+    check_against_brute_force(Kind::Disk);
 }
 
 #[test]
 fn sphere_matches_brute_force() {
-    check_against_brute_force(3);
+    check_against_brute_force(Kind::Sphere);
 }
 
 #[test]
 fn box_matches_brute_force() {
-    check_against_brute_force(4);
+    check_against_brute_force(Kind::Box);
 }
 
 #[test]
 fn cylinder_matches_brute_force() {
-    check_against_brute_force(5);
+    check_against_brute_force(Kind::Cylinder);
 }
 
 #[test]
 fn triangle_matches_brute_force() {
-    check_against_brute_force(6);
+    check_against_brute_force(Kind::Triangle);
 }
 
 #[test]
 fn cylinder_shell_matches_brute_force() {
-    check_against_brute_force(7);
+    check_against_brute_force(Kind::CylinderShell);
 }
 
 #[test]
@@ -270,10 +306,14 @@ fn cylinder_hit_on_mantle_and_cap_has_the_right_normal() {
     assert!((cap.t - 0.5).abs() < 1e-12 && cap.normal.abs_diff_eq(-DVec3::X, 1e-12));
 }
 
-fn solid(kind: u8, c: DVec3, r: f64, dir: DVec3) -> Shape {
-    match kind % 3 {
-        0 => Shape::Sphere(Sphere { center: c, radius: r }),
-        1 => {
+/// The closed primitives: what a segment must never pass through.
+const SOLIDS: &[Kind] = &[Kind::Sphere, Kind::Box, Kind::Cylinder];
+
+/// A solid of `kind` (one of [`SOLIDS`]) at `c`, of size `r` (m), its axis along `dir`.
+fn solid(kind: Kind, c: DVec3, r: f64, dir: DVec3) -> Shape {
+    match kind {
+        Kind::Sphere => Shape::Sphere(Sphere { center: c, radius: r }),
+        Kind::Box => {
             let x = dir.normalize();
             let y = x.any_orthonormal_vector();
             Shape::Box(OrientedBox {
@@ -282,7 +322,8 @@ fn solid(kind: u8, c: DVec3, r: f64, dir: DVec3) -> Shape {
                 half_extents: DVec3::new(r, r * 0.5, r * 1.5),
             })
         }
-        _ => Shape::Cylinder(Cylinder { a: c, b: c + dir.normalize() * 3.0 * r, radius: r }),
+        Kind::Cylinder => Shape::Cylinder(Cylinder { a: c, b: c + dir.normalize() * 3.0 * r, radius: r }),
+        other => unreachable!("{other:?} is not a solid"),
     }
 }
 
@@ -297,7 +338,7 @@ proptest! {
     /// reports a hit touches the surface there, and moving back along the normal is outside.
     #[test]
     fn segments_never_pass_through_solids(
-        kind in 0u8..3, c in vec3(), r in 0.01..0.5f64, dir in vec3(), p0 in vec3(), d in vec3(), scale in 0.01..4.0f64,
+        kind in proptest::sample::select(SOLIDS), c in vec3(), r in 0.01..0.5f64, dir in vec3(), p0 in vec3(), d in vec3(), scale in 0.01..4.0f64,
     ) {
         prop_assume!(dir.length() > 1e-3);
         let shape = solid(kind, c, r, dir);
@@ -322,6 +363,9 @@ proptest! {
     }
 }
 
+/// The kinds of the obstacles of [`indexed_scene_query_matches_the_linear_scan`], in turn.
+const MIXED: [Kind; 5] = [Kind::Face, Kind::Disk, Kind::Sphere, Kind::Box, Kind::Cylinder];
+
 /// The grid-accelerated query returns exactly what testing every surface returns.
 #[test]
 fn indexed_scene_query_matches_the_linear_scan() {
@@ -330,7 +374,7 @@ fn indexed_scene_query_matches_the_linear_scan() {
     for scene_no in 0..20 {
         let surfaces: Vec<SurfaceRef> = (0..200)
             .map(|i| SurfaceRef {
-                shape: random_shape(&mut rng, 1 + i % 5),
+                shape: random_shape(&mut rng, MIXED[i % MIXED.len()]),
                 kind: SurfaceKind::Obstacle(i),
                 piece: 0,
                 impact: 0,
@@ -371,8 +415,8 @@ fn indexed_scene_query_matches_the_linear_scan() {
 fn arc_hits_match_a_dense_polyline_for_every_primitive() {
     use spraysim::collision::Flight;
     const CHORDS: usize = 4000;
-    for kind in 0..8 {
-        let mut rng = ChaCha8Rng::seed_from_u64(kind as u64 + 500);
+    for kind in Kind::ALL {
+        let mut rng = ChaCha8Rng::seed_from_u64(kind.seed(500));
         let mut hits = 0;
         for _ in 0..2500 {
             let shape = random_shape(&mut rng, kind);
@@ -396,29 +440,26 @@ fn arc_hits_match_a_dense_polyline_for_every_primitive() {
             match (exact, reference) {
                 (Some(h), Some(t)) => {
                     hits += 1;
-                    assert!((h.t - t).abs() < 2e-3, "kind {kind} {shape:?}: exact {} vs polyline {t}", h.t);
+                    assert!((h.t - t).abs() < 2e-3, "{kind:?} {shape:?}: exact {} vs polyline {t}", h.t);
                     assert!(h.point.distance(arc.at(h.t)) < 1e-9);
                     assert!(h.normal.dot(arc.velocity(h.t)) <= 1e-9, "normal does not face the particle");
                 }
                 (None, Some(t)) => {
                     // Only a chord cutting a corner the arc itself misses may differ.
                     let mid = arc.at(t);
-                    assert!(
-                        !shape.contains(mid),
-                        "kind {kind} {shape:?}: the exact test missed a hit at {t}"
-                    );
+                    assert!(!shape.contains(mid), "{kind:?} {shape:?}: the exact test missed a hit at {t}");
                 }
                 (Some(h), None) => {
                     let ahead = arc.at((h.t + 2.0 / CHORDS as f64).min(1.0));
                     assert!(
                         !shape.contains(ahead),
-                        "kind {kind} {shape:?}: polyline found nothing, exact {}",
+                        "{kind:?} {shape:?}: polyline found nothing, exact {}",
                         h.t
                     );
                 }
                 (None, None) => {}
             }
         }
-        assert!(hits > 100, "kind {kind}: only {hits} hits");
+        assert!(hits > 100, "{kind:?}: only {hits} hits");
     }
 }

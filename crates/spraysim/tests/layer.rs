@@ -105,8 +105,8 @@ fn segments_ending_inside_the_layer_always_meet_it() {
     assert!(met > 1000);
 }
 
-/// Rebound over the first `duration` s of the static shot: the shotcrete preset's
-/// nozzle held 1 m square onto the middle of a 2 m × 2 m wall.
+/// Rebound over the first `duration` s of a static shot: the shotcrete preset's nozzle held
+/// still 1 m square onto the middle of a 2 m × 2 m wall.
 fn static_shot_rebound(duration: f64) -> f64 {
     let mut sim = spraysim_validate::shotcrete::static_shot(90.0, 1.0, duration).build().expect("valid");
     sim.run(|_| {});

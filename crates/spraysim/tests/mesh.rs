@@ -2,6 +2,7 @@
 
 use spraysim::collision::Primitive;
 use spraysim::{Metrics, Scenario, Simulation};
+use spraysim_validate::scenes::{NOZZLE_AT_WALL, refusal, triangle_stl, wall, wall_scene};
 use std::path::Path;
 
 /// Corners of a cube of side 0.2 m centred at (−0.3, 0, 1) and its 12 outward triangles.
@@ -44,6 +45,8 @@ fn write_stl(path: &Path) {
     std::fs::write(path, s).expect("write stl");
 }
 
+/// Grit blasted for 0.3 s from the nozzle at the wall (64 × 64 cells) past an obstacle named
+/// `block` whose other keys are `obstacle` (TOML).
 fn scene(obstacle: &str) -> String {
     format!(
         r#"
@@ -51,20 +54,12 @@ fn scene(obstacle: &str) -> String {
         duration = 0.3
         [process]
         preset = "blasting"
-        [nozzle]
-        position = [-1.0, 0.0, 1.0]
-        axis = [1.0, 0.0, 0.0]
-        [[target]]
-        name = "wall"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [2.0, 2.0]
-        resolution = [64, 64]
+        {NOZZLE_AT_WALL}{wall}
         [[obstacle]]
         name = "block"
         {obstacle}
-        "#
+        "#,
+        wall = wall().resolution(64, 64),
     )
 }
 
@@ -127,4 +122,56 @@ fn a_bad_mesh_file_is_refused_with_its_key() {
         let err = Scenario::from_path(&path).expect_err("refused").to_string();
         assert!(err.contains("`obstacle[0].file`") && err.contains(expect), "{err}");
     }
+}
+
+#[test]
+fn a_mesh_beyond_the_coordinate_limit_is_refused_and_the_widest_accepted_one_runs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let wall = wall_scene(0.05, 32);
+    for (name, corners, scale) in [
+        ("huge.stl", [[-1e30, 0.0, 0.0], [1e30, 0.0, 0.0], [0.0, 0.0, 1e30]], 1.0),
+        ("big.stl", [[-1e9, 0.0, 0.0], [1e10, 0.0, 0.0], [0.0, 0.0, 1e9]], 1.0),
+        ("scaled.stl", [[-1e4, 0.0, 0.0], [1e4, 0.0, 0.0], [0.0, 0.0, 1e4]], 1e6),
+    ] {
+        std::fs::write(tmp.path().join(name), triangle_stl(corners)).expect("write");
+        let text = format!(
+            "{wall}\n[[obstacle]]\nname = \"o\"\nshape = \"mesh\"\nfile = \"{name}\"\nscale = {scale:e}\n"
+        );
+        std::fs::write(tmp.path().join("s.toml"), text).expect("write");
+        let (key, message) = refusal(Scenario::from_path(&tmp.path().join("s.toml")), name);
+        assert_eq!(key, "obstacle[0].file", "{name}");
+        assert!(message.contains("must lie within"), "{name}: {message}");
+    }
+    // The largest accepted extent, a mesh 2 × 10⁴ m wide, runs (and its broad phase is small:
+    // the cap on cells is tested in the engine, the memory in tests/property.rs).
+    let corners = [[-1e4, -1e4, 0.0], [1e4, -1e4, 0.0], [0.0, 1e4, 0.0]];
+    std::fs::write(tmp.path().join("wide.stl"), triangle_stl(corners)).expect("write");
+    let text = format!("{wall}\n[[obstacle]]\nname = \"o\"\nshape = \"mesh\"\nfile = \"wide.stl\"\n");
+    std::fs::write(tmp.path().join("s.toml"), text).expect("write");
+    let sc = Scenario::from_path(&tmp.path().join("s.toml")).expect("accepted");
+    let mut sim = sc.build().expect("builds");
+    for _ in 0..5 {
+        sim.step();
+    }
+    assert!(sim.swarm().alive() > 0);
+}
+
+#[test]
+fn a_binary_stl_whose_facet_count_disagrees_with_its_length_is_refused() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let mut stl = vec![0u8; 80];
+    stl.extend_from_slice(&3u32.to_le_bytes()); // says 3 facets…
+    stl.extend_from_slice(&[0u8; 12]);
+    for c in [0.0f32, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0] {
+        stl.extend_from_slice(&c.to_le_bytes());
+    }
+    stl.extend_from_slice(&[0u8; 2]);
+    stl.extend_from_slice(&[7u8; 60]); // …but holds one and some bytes
+    std::fs::write(tmp.path().join("m.stl"), &stl).expect("write");
+    let text =
+        format!("{}\n[[obstacle]]\nname = \"o\"\nshape = \"mesh\"\nfile = \"m.stl\"\n", wall_scene(0.05, 32));
+    std::fs::write(tmp.path().join("s.toml"), text).expect("write");
+    let (key, message) = refusal(Scenario::from_path(&tmp.path().join("s.toml")), "wrong count");
+    assert_eq!(key, "obstacle[0].file");
+    assert!(message.contains("counts 3 facets"), "{message}");
 }

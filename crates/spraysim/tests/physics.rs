@@ -7,6 +7,7 @@ use spraysim::emission::{Aperture, Direction, Emitter};
 use spraysim::scenario::SHOTCRETE_REBOUND_POLYNOMIAL;
 use spraysim::world::Role;
 use spraysim::{Metrics, Scenario, Simulation};
+use spraysim_validate::scenes::wall;
 
 fn scenario(text: &str) -> Scenario {
     Scenario::from_toml(text, "test").unwrap_or_else(|e| panic!("{e}"))
@@ -281,7 +282,7 @@ fn particles_that_hit_nothing_leave_the_domain_or_expire() {
 
 #[test]
 fn waypoints_move_the_spot_and_switch_the_spray() {
-    let sc = scenario(
+    let sc = scenario(&format!(
         r#"
         [simulation]
         duration = 1.0
@@ -296,15 +297,10 @@ fn waypoints_move_the_spot_and_switch_the_spray() {
         position = [-1.0, -0.5, 1.0]
         axis = [1.0, 0.0, 0.0]
         spray = false
-        [[target]]
-        name = "wall"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [2.0, 2.0]
-        resolution = [200, 200]
+        {wall}
         "#,
-    );
+        wall = wall().resolution(200, 200),
+    ));
     let sim = run(&sc);
     let m = sim.metrics();
     // Spraying only during the first half second.

@@ -1,6 +1,7 @@
 //! Generated scenarios, valid and mutated, through parse → validate → a few steps of a
-//! `Simulation` (issue 17): no panic, every refusal names a key, and what an accepted scenario
-//! allocates stays under its memory limit and under the estimate it was checked with.
+//! `Simulation`: no panic, every refusal names a key, and what an accepted scenario allocates
+//! stays under its memory limit and under the estimate it was checked with; a scenario beyond
+//! the limit is refused before it allocates.
 //!
 //! A counting allocator measures the memory; the tests of this file take turns so that each
 //! sees only its own allocations.
@@ -8,6 +9,7 @@
 use proptest::prelude::*;
 use spraysim::Scenario;
 use spraysim::scenario::ScenarioError;
+use spraysim_validate::scenes::{NOZZLE_AT_WALL, floor, refusal, wall, wall_scene};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -69,15 +71,14 @@ const LIMIT: f64 = 4e8;
 /// Valid scenarios to mutate: shotcrete on a wall and floor; painting a shell with a fan and
 /// drag; blasting a coated wall behind a mesh obstacle.
 fn templates(mesh: &str) -> [String; 3] {
-    let wall = "[[target]]\nname = \"wall\"\ncenter = [0.0, 0.0, 1.0]\nnormal = [-1.0, 0.0, 0.0]\n\
-                up = [0.0, 0.0, 1.0]\nsize = [2.0, 2.0]\nresolution = [32, 32]\n";
+    let wall = wall().resolution(32, 32);
     [
         format!(
             "[simulation]\nduration = 0.02\nmax_memory = {LIMIT:e}\n[process]\npreset = \"shotcrete\"\n\
              [process.impact]\nalpha = 1.0\n[process.slump]\ninterval = 0.01\n[emitter]\nspawn_rate = 20000.0\n\
-             [nozzle]\nposition = [-1.0, 0.0, 1.0]\n{wall}[[target]]\nname = \"floor\"\nrole = \"collector\"\n\
-             center = [-1.5, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\nup = [1.0, 0.0, 0.0]\nsize = [4.0, 3.0]\n\
-             resolution = [20, 15]\n[domain]\nmin = [-4.0, -3.0, -1.0]\nmax = [1.0, 3.0, 3.0]\n[output]\nimpact_log = 0.1\n"
+             {NOZZLE_AT_WALL}{wall}{floor}\
+             [domain]\nmin = [-4.0, -3.0, -1.0]\nmax = [1.0, 3.0, 3.0]\n[output]\nimpact_log = 0.1\n",
+            floor = floor().resolution(20, 15),
         ),
         format!(
             "[simulation]\nduration = 0.02\ndt = 0.0005\nmax_memory = {LIMIT:e}\n[process]\npreset = \"painting\"\n\
@@ -87,8 +88,9 @@ fn templates(mesh: &str) -> [String; 3] {
         ),
         format!(
             "[simulation]\nduration = 0.02\nintegrator = \"exact\"\nmax_memory = {LIMIT:e}\n[process]\n\
-             preset = \"blasting\"\n[process.erosion]\nmodel = \"oka\"\n[emitter]\nspawn_rate = 5000.0\n{wall}\
-             coating = 1e-4\n[[obstacle]]\nname = \"grille\"\nshape = \"mesh\"\nfile = \"{mesh}\"\n"
+             preset = \"blasting\"\n[process.erosion]\nmodel = \"oka\"\n[emitter]\nspawn_rate = 5000.0\n{coated}\
+             [[obstacle]]\nname = \"grille\"\nshape = \"mesh\"\nfile = \"{mesh}\"\n",
+            coated = wall.coating(1e-4),
         ),
     ]
 }
@@ -265,7 +267,7 @@ fn check(text: &str) -> Result<(), TestCaseError> {
 }
 
 #[test]
-fn issue17_12_generated_scenarios_never_panic_refusals_name_a_key_memory_stays_under_the_limit() {
+fn generated_scenarios_never_panic_refusals_name_a_key_memory_stays_under_the_limit() {
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     let tmp = tempfile::tempdir().expect("tempdir");
     let mesh = tmp.path().join("grille.stl");
@@ -299,7 +301,7 @@ fn issue17_12_generated_scenarios_never_panic_refusals_name_a_key_memory_stays_u
 }
 
 #[test]
-fn issue17_01_thin_wide_domain_and_wide_mesh_stay_small() {
+fn a_thin_wide_domain_and_a_wide_mesh_stay_small() {
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     let tmp = tempfile::tempdir().expect("tempdir");
     let mesh = tmp.path().join("plate.stl");
@@ -325,4 +327,33 @@ fn issue17_01_thin_wide_domain_and_wide_mesh_stay_small() {
         assert!(emitted >= 10);
         assert!(peak < 200_000_000, "{peak} bytes for\n{text}");
     }
+}
+
+#[test]
+fn a_scenario_beyond_the_memory_limit_is_refused_naming_the_key() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let sc = Scenario::from_toml(&wall_scene(0.05, 32), "wall.toml").expect("valid");
+    let (key, message) = refusal(
+        sc.with_all(&[
+            ("emitter.spawn_rate".into(), 1e9.into()),
+            ("simulation.dt".into(), 0.1.into()),
+            ("simulation.duration".into(), 2.0.into()),
+        ]),
+        "spawn_rate = 1e9",
+    );
+    assert_eq!(key, "emitter.spawn_rate");
+    assert!(message.contains("of memory") && message.contains("simulation.max_memory"), "{message}");
+    // The same limit, set low, refuses a heightfield too large for it, naming its resolution.
+    let (key, message) = refusal(
+        sc.with_all(&[
+            ("simulation.max_memory".into(), 2e8.into()),
+            ("target[0].resolution".into(), [4096.0, 4096.0].into()),
+        ]),
+        "4096² cells under 200 MB",
+    );
+    assert_eq!(key, "target[0].resolution", "{message}");
+    // Steps and particles are reported, whatever their number.
+    let b = sc.budget();
+    assert_eq!((b.steps, b.particles.round()), (50, 500.0));
+    assert!(b.memory < b.limit && b.memory > 0.0);
 }

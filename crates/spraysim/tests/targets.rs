@@ -1,8 +1,14 @@
 //! Deposition on real parts: cylinder shells, meshes and faces with openings, against closed
 //! forms and against each other; their metrics and 3D exports.
 
+use glam::DVec3;
+use spraysim::Scenario;
+use spraysim::deposit::{DepositSurface, Surface};
 use spraysim_validate::chi2_limit as chi2_limit_for;
+use spraysim_validate::scenes::wall;
 use spraysim_validate::targets::{shell_cos3, sphere_cos3};
+use std::fmt::Write as _;
+use std::path::Path;
 
 #[test]
 fn the_cos3_law_holds_on_a_cylinder_shell_seen_from_its_axis() {
@@ -19,12 +25,6 @@ fn the_cos3_law_holds_on_a_triangulated_sphere_section() {
     assert!(r.chi2 < chi2_limit_for(dof), "χ² {} over {dof} rings: {r:?}", r.chi2);
     assert!(r.volume_error.abs() < 1e-9, "{}", r.volume_error);
 }
-
-use glam::DVec3;
-use spraysim::Scenario;
-use spraysim::deposit::{DepositSurface, Surface};
-use std::fmt::Write as _;
-use std::path::Path;
 
 /// An ASCII STL of a `size` m square plate at height `z`, facing +z, of `n × n` squares cut in
 /// two triangles each (row-major from the −x, −y corner; the first triangle of a square is the
@@ -120,7 +120,8 @@ fn a_flat_mesh_and_the_same_rectangle_collect_the_same_layer() {
 
 #[test]
 fn material_passes_through_an_opening_and_lands_behind_it() {
-    let text = r#"
+    let text = format!(
+        r#"
         [simulation]
         duration = 0.3
         [process]
@@ -130,26 +131,12 @@ fn material_passes_through_an_opening_and_lands_behind_it() {
         [nozzle]
         position = [-0.5, 0.0, 1.0]
         axis = [1.0, 0.0, 0.0]
-        [[target]]
-        name = "wall"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [2.0, 2.0]
-        resolution = [100, 100]
-        [[target.opening]]
-        center = [0.0, 0.0]
-        size = [0.1, 0.1]
-        [[target]]
-        name = "behind"
-        role = "collector"
-        center = [0.5, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [2.0, 2.0]
-        resolution = [100, 100]
-        "#;
-    let sc = Scenario::from_toml(text, "window").unwrap_or_else(|e| panic!("{e}"));
+        {wall}{behind}
+        "#,
+        wall = wall().resolution(100, 100).with("[[target.opening]]\ncenter = [0.0, 0.0]\nsize = [0.1, 0.1]"),
+        behind = wall().named("behind").collector().at([0.5, 0.0, 1.0]).resolution(100, 100),
+    );
+    let sc = Scenario::from_toml(&text, "window").unwrap_or_else(|e| panic!("{e}"));
     let mut sim = sc.build().expect("valid");
     sim.run(|_| {});
     let m = sim.metrics();
@@ -264,12 +251,9 @@ fn thickness_statistics_weigh_by_area_report_the_share_in_spec_and_leave_out_the
     assert!(inner.std_dev < 1e-12 && (inner.mean - 0.01).abs() < 1e-12);
 }
 
-/// A face of `[2, 2]` m with one opening given by `opening` (TOML keys).
+/// The wall (2 m × 2 m, default cells) with one opening given by `opening` (TOML keys).
 fn wall_with(opening: &str) -> Result<Scenario, String> {
-    let text = format!(
-        "[[target]]\nname = \"wall\"\ncenter = [0.0, 0.0, 1.0]\nnormal = [-1.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\n\
-         size = [2.0, 2.0]\n[[target.opening]]\n{opening}\n"
-    );
+    let text = wall().with(&format!("[[target.opening]]\n{opening}")).to_string();
     Scenario::from_toml(&text, "wall.toml").map_err(|e| e.to_string())
 }
 

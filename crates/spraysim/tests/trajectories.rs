@@ -5,6 +5,7 @@ use spraysim::Scenario;
 use spraysim::collision::Face;
 use spraysim::deposit::DepositSurface;
 use spraysim::emission::{PassDirection, RasterPlan, raster, raster_waypoints};
+use spraysim_validate::scenes;
 
 fn wall() -> Face {
     Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::new(-1.0, 0.0, 0.0), DVec3::Z, [2.0, 2.0])
@@ -56,6 +57,12 @@ fn circular_motion_circles_the_raster_line() {
     }
 }
 
+/// The wall's middle square metre, named `panel` (100 × 100 cells).
+fn panel() -> scenes::Rectangle {
+    scenes::wall().named("panel").size(1.0, 1.0).resolution(100, 100)
+}
+
+/// 2 s of painting onto the [`panel`], with `extra` (TOML) after it.
 fn raster_scene(extra: &str) -> String {
     format!(
         r#"
@@ -63,15 +70,10 @@ fn raster_scene(extra: &str) -> String {
         duration = 2.0
         [process]
         preset = "painting"
-        [[target]]
-        name = "panel"
-        center = [0.0, 0.0, 1.0]
-        normal = [-1.0, 0.0, 0.0]
-        up = [0.0, 0.0, 1.0]
-        size = [1.0, 1.0]
-        resolution = [100, 100]
+        {panel}
         {extra}
-        "#
+        "#,
+        panel = panel(),
     )
 }
 
@@ -164,6 +166,17 @@ fn bad_tool_paths_name_the_file_line_and_column() {
 }
 
 #[test]
+fn a_tool_path_with_a_repeated_column_is_refused() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    std::fs::write(tmp.path().join("p.csv"), "t,t,x,y,z,qx,qy,qz,qw\n0,0,-1,0,1,0,0.7071068,0,0.7071068\n")
+        .expect("write");
+    let text = format!("{}\n[nozzle]\npath_csv = \"p.csv\"\n", scenes::wall_scene(0.05, 32));
+    std::fs::write(tmp.path().join("s.toml"), text).expect("write");
+    let Err(e) = Scenario::from_path(&tmp.path().join("s.toml")) else { panic!("accepted") };
+    assert!(e.to_string().contains("column `t` appears twice"), "{e}");
+}
+
+#[test]
 fn path_metrics_report_standoff_angle_and_speed_against_the_window() {
     let mut sim = Scenario::default_scene().build().expect("valid");
     sim.run(|_| {});
@@ -215,14 +228,9 @@ fn the_nozzle_velocity_carries_over_to_the_particles_when_asked() {
             position = [-1.0, 0.25, 1.0]
             axis = [1.0, 0.0, 0.0]
             spray = false
-            [[target]]
-            name = "panel"
-            center = [0.0, 0.0, 1.0]
-            normal = [-1.0, 0.0, 0.0]
-            up = [0.0, 0.0, 1.0]
-            size = [1.0, 1.0]
-            resolution = [100, 100]
-            "#
+            {panel}
+            "#,
+            panel = panel(),
         );
         let sc = Scenario::from_toml(&text, "carry").unwrap_or_else(|e| panic!("{e}"));
         let mut sim = sc.build().expect("valid");

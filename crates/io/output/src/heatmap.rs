@@ -1,5 +1,6 @@
 //! Heatmap images of a heightfield-sized grid, with a title and a labelled colour scale.
 
+use crate::text;
 use image::{Rgb, RgbImage};
 use spraysim_engine::deposit::MapAxis;
 use spraysim_scenario::Colormap;
@@ -19,9 +20,9 @@ const NO_SURFACE: Rgb<u8> = Rgb([205, 205, 205]);
 pub struct Grid<'a> {
     /// Values, row-major from the bottom row.
     pub values: &'a [f64],
-    /// Columns.
+    /// Cells across, drawn left to right.
     pub cols: usize,
-    /// Rows.
+    /// Cells up, drawn bottom to top.
     pub rows: usize,
     /// Optional per-cell marks drawn over the colours: 1 at risk (orange), 2 failed (red).
     pub marks: Option<&'a [u8]>,
@@ -66,34 +67,6 @@ pub fn color(map: Colormap, t: f64) -> Rgb<u8> {
     Rgb([c.r, c.g, c.b])
 }
 
-/// Draws `text` with its top-left corner at `(x, y)`, each font pixel `s × s`.
-fn draw_text(img: &mut RgbImage, x: i64, y: i64, s: i64, text: &str) {
-    for (k, ch) in text.chars().enumerate() {
-        let code = ch as usize;
-        let glyph = match code {
-            0..=127 => font8x8::legacy::BASIC_LEGACY[code],
-            0xA0..=0xFF => font8x8::legacy::LATIN_LEGACY[code - 0xA0],
-            _ => font8x8::legacy::BASIC_LEGACY[b'?' as usize],
-        };
-        for (gy, bits) in glyph.iter().enumerate() {
-            for gx in 0..8 {
-                if bits >> gx & 1 == 0 {
-                    continue;
-                }
-                for dy in 0..s {
-                    for dx in 0..s {
-                        let px = x + (k as i64 * 8 + gx) * s + dx;
-                        let py = y + gy as i64 * s + dy;
-                        if px >= 0 && py >= 0 && (px as u32) < img.width() && (py as u32) < img.height() {
-                            img.put_pixel(px as u32, py as u32, BLACK);
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
 /// A tick value with as many decimals as its range needs (`max`: the scale's top).
 pub fn tick_label(v: f64, max: f64) -> String {
     let decimals = if max >= 100.0 {
@@ -106,6 +79,12 @@ pub fn tick_label(v: f64, max: f64) -> String {
         3
     };
     format!("{v:.decimals$}")
+}
+
+/// `v` moved into `[lo, hi]` (px), or `lo` when that range is empty: a label wider or taller
+/// than the map it labels starts at the map's start.
+fn within(v: i64, lo: i64, hi: i64) -> i64 {
+    v.min(hi).max(lo)
 }
 
 /// Three ticks of an axis: (fraction along it, label).
@@ -129,28 +108,32 @@ fn draw_axes(
         for dy in 0..tick {
             img.put_pixel(x as u32, (y0 + h + dy) as u32, BLACK);
         }
-        let tx = (x as i64 - (label.len() as i64 * 8 * s) / 2)
-            .clamp(x0 as i64 - 8 * s, (x0 + w) as i64 - label.len() as i64 * 8 * s + 8 * s);
-        draw_text(img, tx, (y0 + h + tick + s as usize) as i64, s, label);
+        let tx = within(
+            x as i64 - text::width(label, s) / 2,
+            x0 as i64 - 8 * s,
+            (x0 + w) as i64 - text::width(label, s) + 8 * s,
+        );
+        text::draw(img, tx, (y0 + h + tick + s as usize) as i64, s, label, BLACK);
     }
-    let label_x = x0 as i64 + (w as i64 - axes[0].label.chars().count() as i64 * 8 * s) / 2;
-    draw_text(
+    let label_x = x0 as i64 + (w as i64 - text::width(axes[0].label, s)) / 2;
+    text::draw(
         img,
         label_x.max(x0 as i64),
         (y0 + h + tick + 10 * s as usize + s as usize) as i64,
         s,
         axes[0].label,
+        BLACK,
     );
     for (f, label) in &ticks[1] {
         let y = y0 + h - 1 - ((h - 1) as f64 * f) as usize;
         for dx in 0..tick {
             img.put_pixel((x0 - 1 - dx) as u32, y as u32, BLACK);
         }
-        let ty = (y as i64 - 4 * s).clamp(y0 as i64, (y0 + h) as i64 - 8 * s);
-        draw_text(img, x0 as i64 - tick as i64 - 2 - label.len() as i64 * 8 * s, ty, s, label);
+        let ty = within(y as i64 - 4 * s, y0 as i64, (y0 + h) as i64 - 8 * s);
+        text::draw(img, x0 as i64 - tick as i64 - 2 - text::width(label, s), ty, s, label, BLACK);
     }
     // The vertical axis's label above the map, at its left.
-    draw_text(img, x0 as i64, y0 as i64 - 10 * s, s, axes[1].label);
+    text::draw(img, x0 as i64, y0 as i64 - 10 * s, s, axes[1].label, BLACK);
 }
 
 /// Renders `grid` as a heatmap from 0 to its maximum, titled `title`.
@@ -188,7 +171,7 @@ pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, 
         margin + left + w + margin + ticks_w.max(scale.label.chars().count() * 8 * s as usize) + margin;
     let height = margin + title_h + title_h + h + bottom + margin;
     let mut img = RgbImage::from_pixel(width as u32, height as u32, WHITE);
-    draw_text(&mut img, margin as i64, margin as i64, s, title);
+    text::draw(&mut img, margin as i64, margin as i64, s, title, BLACK);
 
     // Data area: averages of down × down blocks; image row 0 is the grid's top row.
     let (x0, y0) = (margin + left, margin + 2 * title_h);
@@ -226,7 +209,7 @@ pub fn render_range(grid: &Grid<'_>, title: &str, scale: &Scale, map: Colormap, 
         }
     }
 
-    draw_text(&mut img, (x0 + w + margin) as i64, (margin + title_h) as i64, s, &scale.label);
+    text::draw(&mut img, (x0 + w + margin) as i64, (margin + title_h) as i64, s, &scale.label, BLACK);
     draw_color_bar(&mut img, (x0 + w + margin, y0, bar_w, h), s, map, &labels);
     img
 }
@@ -251,7 +234,30 @@ fn draw_color_bar(
         for x in 0..(bar_w + 3 * s as usize) {
             img.put_pixel((bx + x) as u32, y as u32, BLACK);
         }
-        let ty = (y as i64 - 4 * s).clamp(y0 as i64, (y0 + h) as i64 - 8 * s);
-        draw_text(img, (bx + bar_w + 6 * s as usize) as i64, ty, s, label);
+        let ty = within(y as i64 - 4 * s, y0 as i64, (y0 + h) as i64 - 8 * s);
+        text::draw(img, (bx + bar_w + 6 * s as usize) as i64, ty, s, label, BLACK);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn maps_narrower_or_lower_than_their_labels_are_drawn_whole() {
+        let axes =
+            [MapAxis { label: "y [m]", from: -1.0, to: 1.0 }, MapAxis { label: "z [m]", from: 0.0, to: 2.0 }];
+        let top = color(Colormap::Viridis, 1.0);
+        for (cols, rows) in [(4, 1024), (1024, 4), (2, 3000), (1, 1)] {
+            let values = vec![1e-3; cols * rows];
+            let grid = Grid { values: &values, cols, rows, marks: None, axes: Some(&axes) };
+            let img = render(&grid, "narrow", &Scale::thickness(1e-3), Colormap::Viridis);
+            // Every pixel of the data area in the colour of the scale's top.
+            let side = cols.max(rows);
+            let (down, up) = (side.div_ceil(MAX_SIDE), (MIN_SIDE / side).max(1));
+            let area = cols.div_ceil(down) * rows.div_ceil(down) * up * up;
+            let painted = img.pixels().filter(|p| **p == top).count();
+            assert!(painted >= area, "{cols} × {rows}: {painted} px of {area}");
+        }
     }
 }

@@ -10,6 +10,7 @@ pub mod checkpoint;
 pub mod directory;
 pub mod export;
 pub mod heatmap;
+pub mod text;
 
 pub use directory::{CommitHooks, CommitPoint, FILE_LIST, NoHooks, OutputDir, STAGING_PREFIX};
 

@@ -12,6 +12,7 @@ use spraysim_engine::Simulation;
 use spraysim_engine::deposit::RectangleSurface;
 use spraysim_engine::motion::{Integrator, Lanes};
 use spraysim_scenario::{Scenario, ScenarioError};
+use spraysim_validate::scenes::{NOZZLE_AT_WALL, floor, integrator_word, wall};
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -48,7 +49,7 @@ pub struct ReferenceScene {
     pub spawn_rate: f64,
     /// Simulated time, s.
     pub duration: f64,
-    /// Integrator.
+    /// How each step advances the particles (forward Euler in the documented scene).
     pub integrator: Integrator,
     /// Time step, s.
     pub dt: f64,
@@ -74,17 +75,12 @@ impl ReferenceScene {
     /// The scene as a scenario; an error names the knob that makes it invalid (a spawn rate
     /// or duration that is not a positive number, say).
     pub fn scenario(&self) -> Result<Scenario, ScenarioError> {
-        let nozzle = "[nozzle]\nposition = [-1.0, 0.0, 1.0]\naxis = [1.0, 0.0, 0.0]\n";
-        Scenario::from_toml(&self.toml(nozzle), "reference scene")
+        Scenario::from_toml(&self.toml(NOZZLE_AT_WALL), "reference scene")
     }
 
     /// The scene as TOML, with `nozzle` (TOML) as its nozzle.
     fn toml(&self, nozzle: &str) -> String {
-        let integrator = match self.integrator {
-            Integrator::Euler => "euler",
-            Integrator::SemiImplicitEuler => "semi_implicit_euler",
-            Integrator::Exact => "exact",
-        };
+        let integrator = integrator_word(self.integrator);
         let mut t = format!(
             r#"
             [simulation]
@@ -96,21 +92,7 @@ impl ReferenceScene {
             max_lifetime = 3.0
             [emitter]
             spawn_rate = {rate}
-            [[target]]
-            name = "wall"
-            center = [0.0, 0.0, 1.0]
-            normal = [-1.0, 0.0, 0.0]
-            up = [0.0, 0.0, 1.0]
-            size = [2.0, 2.0]
-            resolution = [{res}, {res}]
-            [[target]]
-            name = "floor"
-            role = "collector"
-            center = [-1.5, 0.0, 0.0]
-            normal = [0.0, 0.0, 1.0]
-            up = [1.0, 0.0, 0.0]
-            size = [4.0, 3.0]
-            resolution = [400, 300]
+            {wall}{floor}
             [domain]
             min = [-3.0, -2.5, -0.5]
             max = [0.5, 2.5, 3.0]
@@ -118,7 +100,8 @@ impl ReferenceScene {
             dt = self.dt,
             duration = self.duration,
             rate = self.spawn_rate,
-            res = self.resolution,
+            wall = wall().resolution(self.resolution, self.resolution),
+            floor = floor().resolution(400, 300),
         );
         t.push_str(nozzle);
         let n = if self.rebar { self.pieces_per_bar.max(1) } else { 0 };

@@ -1,6 +1,7 @@
 //! The closed-form experiments: each runs the engine (or one of its models) and returns what it
 //! measured beside what the closed form says, with the statistic that compares them.
 
+use crate::scenes::{floor, integrator_word, scenario, wall};
 use glam::DVec3;
 use rand::SeedableRng;
 use spraysim_engine::deposit::DepositSurface;
@@ -12,11 +13,6 @@ use spraysim_engine::{Metrics, Simulation};
 use spraysim_scenario::{SHOTCRETE_REBOUND_POLYNOMIAL, Scenario};
 use std::f64::consts::PI;
 use std::sync::Arc;
-
-fn scene(text: &str, origin: &str) -> Scenario {
-    // The scenes are fixed text of this module: a failure to parse is a bug here, not input.
-    Scenario::from_toml(text, origin).unwrap_or_else(|e| panic!("built-in validation scene: {e}"))
-}
 
 pub(crate) fn run(sc: &Scenario, threads: usize) -> Simulation {
     let mut sim = sc.build().unwrap_or_else(|e| panic!("built-in validation scene: {e}"));
@@ -116,7 +112,7 @@ pub fn cone_law(dir: &str, particles: f64, threads: usize) -> ConeLaw {
 /// The scene of [`cone_law`]: a point nozzle `h` m above a `size` m floor of `cols²` cells,
 /// spraying a cone of `half_deg` with direction law `dir` at `rate` particles/s for `spray` s.
 fn cone_scene(dir: &str, h: f64, half_deg: f64, size: f64, cols: usize, rate: f64, spray: f64) -> Scenario {
-    scene(
+    scenario(
         &format!(
             r#"
             [simulation]
@@ -140,15 +136,11 @@ fn cone_scene(dir: &str, h: f64, half_deg: f64, size: f64, cols: usize, rate: f6
             position = [0.0, 0.0, {h}]
             axis = [0.0, 0.0, -1.0]
             spray = false
-            [[target]]
-            name = "floor"
-            center = [0.0, 0.0, 0.0]
-            normal = [0.0, 0.0, 1.0]
-            up = [1.0, 0.0, 0.0]
-            size = [{size}, {size}]
-            resolution = [{cols}, {cols}]
+            {floor}
             "#,
             cone = 2.0 * half_deg,
+            floor =
+                floor().substrate().at([0.0, 0.0, 0.0]).size(size, size).resolution(cols as u32, cols as u32),
         ),
         "cone",
     )
@@ -215,12 +207,8 @@ pub fn solid_angle_bin(half: f64) -> impl Fn(f64, f64) -> f64 {
 
 /// A horizontal shot at 7 m/s from 1.2 m onto a floor: where it lands, with step `dt` (s).
 pub fn landing_x(dt: f64, integrator: Integrator) -> f64 {
-    let name = match integrator {
-        Integrator::Euler => "euler",
-        Integrator::SemiImplicitEuler => "semi_implicit_euler",
-        Integrator::Exact => "exact",
-    };
-    let sc = scene(
+    let name = integrator_word(integrator);
+    let sc = scenario(
         &format!(
             r#"
             [simulation]
@@ -244,16 +232,12 @@ pub fn landing_x(dt: f64, integrator: Integrator) -> f64 {
             position = [0.0, 0.0, 1.2]
             axis = [1.0, 0.0, 0.0]
             spray = false
-            [[target]]
-            name = "floor"
-            center = [5.0, 0.0, 0.0]
-            normal = [0.0, 0.0, 1.0]
-            up = [1.0, 0.0, 0.0]
-            size = [2.0, 10.0] # 2 m wide (y), 10 m along up (x)
-            resolution = [8, 8]
+            {floor}
             "#,
             rate = 1.0 / dt,
-            half = dt / 2.0
+            half = dt / 2.0,
+            // 2 m wide (y), 10 m along its up direction (x), from 0 to 10 m in front.
+            floor = floor().substrate().at([5.0, 0.0, 0.0]).size(2.0, 10.0).resolution(8, 8),
         ),
         "shot",
     );
@@ -305,7 +289,7 @@ pub struct ReboundFraction {
 /// under the pencil jet whose flanks change the angle of later impacts.
 pub fn tilted_plate(theta_deg: f64, alpha: f64, particles: f64, seed: u64, impact: &str) -> Scenario {
     let t = theta_deg.to_radians();
-    scene(
+    scenario(
         &format!(
             r#"
             [simulation]
@@ -465,7 +449,7 @@ pub fn balance(name: &str, sc: &Scenario, threads: usize) -> Balance {
 /// A preset sprayed at a 1.5 m panel over a collector floor for `duration` s; `extra` is TOML
 /// appended to the scene (obstacles, say).
 pub fn panel_scene(preset: &str, duration: f64, extra: &str) -> Scenario {
-    scene(
+    scenario(
         &format!(
             r#"
             [simulation]
@@ -475,23 +459,11 @@ pub fn panel_scene(preset: &str, duration: f64, extra: &str) -> Scenario {
             [nozzle]
             position = [-0.3, 0.0, 1.0]
             axis = [1.0, 0.0, 0.0]
-            [[target]]
-            name = "panel"
-            center = [0.0, 0.0, 1.0]
-            normal = [-1.0, 0.0, 0.0]
-            up = [0.0, 0.0, 1.0]
-            size = [1.5, 1.5]
-            resolution = [256, 256]
-            [[target]]
-            name = "floor"
-            role = "collector"
-            center = [-1.0, 0.0, 0.0]
-            normal = [0.0, 0.0, 1.0]
-            up = [1.0, 0.0, 0.0]
-            size = [4.0, 2.0]
-            resolution = [64, 64]
+            {panel}{floor}
             {extra}
-            "#
+            "#,
+            panel = wall().named("panel").size(1.5, 1.5).resolution(256, 256),
+            floor = floor().at([-1.0, 0.0, 0.0]).size(4.0, 2.0).resolution(64, 64),
         ),
         preset,
     )
@@ -512,7 +484,7 @@ pub fn sprayed_face(
 ) -> Scenario {
     let n = DVec3::from_array(normal);
     let nozzle = DVec3::from_array(center) + n * 0.2;
-    scene(
+    scenario(
         &format!(
             r#"
             [simulation]
@@ -548,20 +520,14 @@ pub fn sprayed_face(
             size = [0.5, 0.5]
             resolution = [50, 50]
             splat_radius = 0.02
-            [[target]]
-            name = "floor"
-            role = "collector"
-            center = [0.0, 0.0, -1.0]
-            normal = [0.0, 0.0, 1.0]
-            up = [1.0, 0.0, 0.0]
-            size = [4.0, 4.0]
-            resolution = [40, 40]
+            {floor}
             [domain]
             min = [-3.0, -3.0, -2.0]
             max = [3.0, 3.0, 3.0]
             "#,
             nozzle = nozzle.to_array(),
             axis = (-n).to_array(),
+            floor = floor().at([0.0, 0.0, -1.0]).size(4.0, 4.0).resolution(40, 40),
         ),
         "sprayed face",
     )

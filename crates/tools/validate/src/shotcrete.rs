@@ -2,6 +2,7 @@
 //! the cushion effect of a static shot, and the slump of a fresh layer against Nye's heap and
 //! the wall limit.
 
+use crate::scenes::scenario;
 use glam::DVec3;
 use spraysim_engine::collision::Face;
 use spraysim_engine::deposit::{DepositSurface, RectangleSurface};
@@ -112,7 +113,7 @@ pub fn practice_panel(angle_deg: f64, standoff: f64, thickness: f64, spawn_rate:
         max = [4.0, 4.0, 6.0]
         "#
     );
-    let sc = Scenario::from_toml(&text, "practice panel").unwrap_or_else(|e| panic!("built-in scene: {e}"));
+    let sc = scenario(&text, "practice panel");
     // Until the raster ends, and a second for the last rebounds to land or leave.
     let end = sc.path_end() + 1.0;
     sc.with("simulation.duration", end).unwrap_or_else(|e| panic!("built-in scene: {e}"))
@@ -172,8 +173,8 @@ pub fn practice_run(
     }
 }
 
-/// The static shot of issue reports: the shotcrete preset's nozzle held `standoff` m square onto
-/// the middle of a 2 m × 2 m face whose normal is `angle_deg` from straight up, for `duration` s.
+/// A static shot: the shotcrete preset's nozzle held still `standoff` m square onto the middle
+/// of a 2 m × 2 m face whose normal is `angle_deg` from straight up, for `duration` s.
 pub fn static_shot(angle_deg: f64, standoff: f64, duration: f64) -> Scenario {
     let phi = angle_deg.to_radians();
     let normal = DVec3::new(-phi.sin(), 0.0, phi.cos());
@@ -203,7 +204,7 @@ pub fn static_shot(angle_deg: f64, standoff: f64, duration: f64) -> Scenario {
         centre.to_array(),
         normal.to_array(),
     );
-    Scenario::from_toml(&text, "static shot").unwrap_or_else(|e| panic!("built-in scene: {e}"))
+    scenario(&text, "static shot")
 }
 
 /// Rebound over a static shot, sampled as it goes.

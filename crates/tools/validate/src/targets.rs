@@ -10,6 +10,7 @@
 //! each triangle collects the share of the cone's solid angle it subtends.
 
 use super::checks::run;
+use crate::scenes::scenario;
 use glam::DVec3;
 use spraysim_engine::Simulation;
 use spraysim_engine::collision::Triangle;
@@ -81,7 +82,7 @@ pub fn shell_scene(particles: f64) -> Scenario {
         cone = 2.0 * HALF_DEG,
         rate = particles / 0.1,
     );
-    Scenario::from_toml(&text, "shell cos³ law").unwrap_or_else(|e| panic!("built-in scene: {e}"))
+    scenario(&text, "shell cos³ law")
 }
 
 /// Bins the cells of `surface` by the angle of their centre's direction from the cone's axis

@@ -4,37 +4,10 @@
 use crate::scene::{FLYING, REBOUNDED, RELEASED, Scene};
 use image::{Rgba, RgbaImage};
 use spraysim::output::heatmap;
+use spraysim::output::text::{self, fill};
 use spraysim::scenario::{Colormap, ParticleColoring};
 
 const INK: Rgba<u8> = Rgba([20, 20, 20, 255]);
-
-/// Draws `text` with its top-left corner at `(x, y)`, each font pixel `s × s`.
-pub fn text(img: &mut RgbaImage, x: i64, y: i64, s: i64, text: &str, ink: Rgba<u8>) {
-    for (k, ch) in text.chars().enumerate() {
-        let code = ch as usize;
-        let glyph = match code {
-            0..=127 => font8x8::legacy::BASIC_LEGACY[code],
-            0xA0..=0xFF => font8x8::legacy::LATIN_LEGACY[code - 0xA0],
-            _ => font8x8::legacy::BASIC_LEGACY[b'?' as usize],
-        };
-        for (gy, bits) in glyph.iter().enumerate() {
-            for gx in 0..8 {
-                if bits >> gx & 1 == 1 {
-                    fill(img, x + (k as i64 * 8 + gx) * s, y + gy as i64 * s, s, s, ink);
-                }
-            }
-        }
-    }
-}
-
-/// Fills a `w × h` rectangle at `(x, y)`, clipped to the image.
-fn fill(img: &mut RgbaImage, x: i64, y: i64, w: i64, h: i64, color: Rgba<u8>) {
-    for py in y.max(0)..(y + h).min(i64::from(img.height())) {
-        for px in x.max(0)..(x + w).min(i64::from(img.width())) {
-            img.put_pixel(px as u32, py as u32, color);
-        }
-    }
-}
 
 /// Lightens a rectangle behind text so that it reads over the scene.
 fn veil(img: &mut RgbaImage, x: i64, y: i64, w: i64, h: i64) {
@@ -69,7 +42,7 @@ pub fn annotate(img: &mut RgbaImage, scene: &Scene) {
     let m = 8 * s;
     let line = caption(scene);
     veil(img, 0, 0, (line.chars().count() as i64 * 8 + 2) * s + 2 * m, 8 * s + 2 * m);
-    text(img, m, m, s, &line, INK);
+    text::draw(img, m, m, s, &line, INK);
     if let Some(legend) = &scene.legend {
         colour_bar(img, s, &legend.label, legend.colormap, legend.max);
     }
@@ -85,11 +58,11 @@ fn colour_bar(img: &mut RgbaImage, s: i64, label: &str, map: Colormap, max: f64)
     let labels: Vec<String> = (0..=4).map(|i| heatmap::tick_label(max * f64::from(i) / 4.0, max)).collect();
     let label_w = labels.iter().map(String::len).max().unwrap_or(1) as i64 * 8 * s;
     let bar_w = 12 * s;
-    let box_w = (bar_w + 6 * s + label_w).max(label.chars().count() as i64 * 8 * s) + 16 * s;
+    let box_w = (bar_w + 6 * s + label_w).max(text::width(label, s)) + 16 * s;
     let bar_h = (h * 2 / 5).max(40);
     let (x0, y0) = (w - box_w, 8 * s + 24 * s);
     veil(img, x0 - 4 * s, y0 - 14 * s, box_w + 4 * s, bar_h + 24 * s);
-    text(img, x0, y0 - 12 * s, s, label, INK);
+    text::draw(img, x0, y0 - 12 * s, s, label, INK);
     let bar_x = x0 + 4 * s;
     let bar_y = y0 + 4 * s;
     for y in 0..bar_h {
@@ -99,7 +72,7 @@ fn colour_bar(img: &mut RgbaImage, s: i64, label: &str, map: Colormap, max: f64)
     for (i, l) in labels.iter().enumerate() {
         let y = bar_y + (bar_h - 1) - (bar_h - 1) * i as i64 / 4;
         fill(img, bar_x, y, bar_w + 3 * s, s.max(1), INK);
-        text(img, bar_x + bar_w + 6 * s, (y - 4 * s).clamp(bar_y, bar_y + bar_h - 8 * s), s, l, INK);
+        text::draw(img, bar_x + bar_w + 6 * s, (y - 4 * s).clamp(bar_y, bar_y + bar_h - 8 * s), s, l, INK);
     }
 }
 
@@ -113,7 +86,7 @@ fn state_key(img: &mut RgbaImage, s: i64) {
     let mut x = 8 * s;
     for (color, label) in entries {
         fill(img, x, y, 8 * s, 8 * s, Rgba(color));
-        text(img, x + 12 * s, y, s, label, INK);
+        text::draw(img, x + 12 * s, y, s, label, INK);
         x += (label.len() as i64 * 8 + 24) * s;
     }
 }
@@ -124,7 +97,7 @@ fn speed_bar(img: &mut RgbaImage, s: i64, vmax: f64) {
     let bar_w = 160 * s;
     let y = h - 8 * s - 20 * s;
     veil(img, 0, y - 14 * s, bar_w + 80 * s, 34 * s);
-    text(img, 8 * s, y - 12 * s, s, "particle speed [m/s]", INK);
+    text::draw(img, 8 * s, y - 12 * s, s, "particle speed [m/s]", INK);
     for x in 0..bar_w {
         fill(
             img,
@@ -135,7 +108,7 @@ fn speed_bar(img: &mut RgbaImage, s: i64, vmax: f64) {
             rgba(heatmap::color(Colormap::Turbo, x as f64 / (bar_w - 1) as f64)),
         );
     }
-    text(img, 8 * s, y + 10 * s, s, "0", INK);
+    text::draw(img, 8 * s, y + 10 * s, s, "0", INK);
     let top = heatmap::tick_label(vmax, vmax);
-    text(img, 8 * s + bar_w - top.len() as i64 * 8 * s, y + 10 * s, s, &top, INK);
+    text::draw(img, 8 * s + bar_w - text::width(&top, s), y + 10 * s, s, &top, INK);
 }

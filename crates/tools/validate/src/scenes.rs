@@ -1,0 +1,234 @@
+//! Scenes shared by the test suite, the checks of this crate and the benchmarks, so that none
+//! of them pastes its own copy: the default scene's wall and the floor in front of it as TOML
+//! `[[target]]` tables (changed where a scene needs: its size, cells, name), the nozzle square
+//! in front of the wall, the smallest runnable wall scene, and helpers to read a scene.
+//!
+//! The frame is the default scene's: z up, the wall in the plane x = 0 facing −x, the floor at
+//! z = 0 in front of it.
+//!
+//! ```
+//! use spraysim_validate::scenes::{NOZZLE_AT_WALL, floor, scenario, wall};
+//!
+//! let text = format!("{NOZZLE_AT_WALL}{}{}", wall().resolution(64, 64), floor().resolution(40, 30));
+//! let sc = scenario(&text, "wall and floor");
+//! assert_eq!(sc.targets().len(), 2);
+//! ```
+
+use spraysim_engine::motion::Integrator;
+use spraysim_scenario::{Scenario, ScenarioError};
+use std::fmt;
+
+/// A rectangle `[[target]]` table, written as TOML by `Display`: `name`, `role`, `center`,
+/// `normal`, `up`, `size`, `resolution`, `splat_radius` and `coating` in that order (the
+/// optional ones only when set), then any extra lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rectangle {
+    name: String,
+    /// `None` leaves the default role, a substrate.
+    role: Option<&'static str>,
+    /// Centre, m.
+    center: [f64; 3],
+    /// Normal, towards the side that is sprayed.
+    normal: [f64; 3],
+    /// The face's up direction: its rows run along it.
+    up: [f64; 3],
+    /// Width and height, m.
+    size: [f64; 2],
+    /// Cells across and up; `None` leaves the default.
+    resolution: Option<[u32; 2]>,
+    /// Splat radius, m; `None` leaves the default.
+    splat_radius: Option<f64>,
+    /// Thickness of the coat the face starts with, m; `None`: bare.
+    coating: Option<f64>,
+    /// TOML lines written after the keys (an `edges` key, a `[[target.opening]]` table).
+    extra: String,
+}
+
+/// The default scene's wall: a 2 m × 2 m substrate named `wall` in the plane x = 0, centred
+/// 1 m up, facing −x, with z up (cells and splat radius left to the scenario's defaults).
+pub fn wall() -> Rectangle {
+    Rectangle {
+        name: "wall".into(),
+        role: None,
+        center: [0.0, 0.0, 1.0],
+        normal: [-1.0, 0.0, 0.0],
+        up: [0.0, 0.0, 1.0],
+        size: [2.0, 2.0],
+        resolution: None,
+        splat_radius: None,
+        coating: None,
+        extra: String::new(),
+    }
+}
+
+/// The default scene's floor: a collector named `floor` at z = 0, 4 m wide (along y) and 3 m
+/// deep (along x, its up direction, towards the wall), centred 1.5 m in front of the wall.
+pub fn floor() -> Rectangle {
+    Rectangle {
+        name: "floor".into(),
+        role: Some("collector"),
+        center: [-1.5, 0.0, 0.0],
+        normal: [0.0, 0.0, 1.0],
+        up: [1.0, 0.0, 0.0],
+        size: [4.0, 3.0],
+        ..wall()
+    }
+}
+
+impl Rectangle {
+    /// The same face named `name`.
+    pub fn named(mut self, name: &str) -> Self {
+        self.name = name.into();
+        self
+    }
+
+    /// The same face as a collector: it records what lands on it, outside the rebound count.
+    pub fn collector(mut self) -> Self {
+        self.role = Some("collector");
+        self
+    }
+
+    /// The same face as a substrate, the default role (no `role` line).
+    pub fn substrate(mut self) -> Self {
+        self.role = None;
+        self
+    }
+
+    /// The same face centred at `center` (m), its orientation kept.
+    pub fn at(mut self, center: [f64; 3]) -> Self {
+        self.center = center;
+        self
+    }
+
+    /// The same face `width` m across and `height` m along its up direction.
+    pub fn size(mut self, width: f64, height: f64) -> Self {
+        self.size = [width, height];
+        self
+    }
+
+    /// The same face with `cols` cells across and `rows` up.
+    pub fn resolution(mut self, cols: u32, rows: u32) -> Self {
+        self.resolution = Some([cols, rows]);
+        self
+    }
+
+    /// The same face spreading each particle over a disc of `radius` m.
+    pub fn splat_radius(mut self, radius: f64) -> Self {
+        self.splat_radius = Some(radius);
+        self
+    }
+
+    /// The same face under a coat `thickness` m thick before the run.
+    pub fn coating(mut self, thickness: f64) -> Self {
+        self.coating = Some(thickness);
+        self
+    }
+
+    /// The same face with `lines` (TOML) written after its keys: more keys of the target, or
+    /// its sub-tables such as `[[target.opening]]`.
+    pub fn with(mut self, lines: &str) -> Self {
+        self.extra.push_str(lines);
+        if !self.extra.ends_with('\n') {
+            self.extra.push('\n');
+        }
+        self
+    }
+}
+
+impl fmt::Display for Rectangle {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "[[target]]\nname = \"{}\"", self.name)?;
+        if let Some(role) = self.role {
+            writeln!(f, "role = \"{role}\"")?;
+        }
+        writeln!(f, "center = {:?}\nnormal = {:?}\nup = {:?}", self.center, self.normal, self.up)?;
+        writeln!(f, "size = {:?}", self.size)?;
+        if let Some(resolution) = self.resolution {
+            writeln!(f, "resolution = {resolution:?}")?;
+        }
+        if let Some(radius) = self.splat_radius {
+            writeln!(f, "splat_radius = {radius:?}")?;
+        }
+        if let Some(coating) = self.coating {
+            writeln!(f, "coating = {coating:?}")?;
+        }
+        f.write_str(&self.extra)
+    }
+}
+
+/// The default scene's nozzle as a `[nozzle]` table: 1 m in front of the wall's centre,
+/// spraying square onto it (+x).
+pub const NOZZLE_AT_WALL: &str = "[nozzle]\nposition = [-1.0, 0.0, 1.0]\naxis = [1.0, 0.0, 0.0]\n";
+
+/// The smallest runnable wall scene: `duration` s of the default process and nozzle onto the
+/// [`wall`] at `cells` × `cells`, as TOML that more tables may follow.
+pub fn wall_scene(duration: f64, cells: u32) -> String {
+    format!("[simulation]\nduration = {duration:?}\n{}", wall().resolution(cells, cells))
+}
+
+/// The word that selects `integrator` as `[simulation] integrator`.
+pub fn integrator_word(integrator: Integrator) -> &'static str {
+    match integrator {
+        Integrator::Euler => "euler",
+        Integrator::SemiImplicitEuler => "semi_implicit_euler",
+        Integrator::Exact => "exact",
+    }
+}
+
+/// `text` read as a scenario named `origin`; panics naming the scene and the error, for the
+/// fixed scenes of tests and checks, where a refusal is a bug of the scene.
+pub fn scenario(text: &str, origin: &str) -> Scenario {
+    Scenario::from_toml(text, origin).unwrap_or_else(|e| panic!("the scene `{origin}` is refused: {e}"))
+}
+
+/// The key and message of a scenario's refusal; panics when `result` is accepted or refused
+/// without a key, naming `what` was refused.
+pub fn refusal(result: Result<Scenario, ScenarioError>, what: &str) -> (String, String) {
+    match result {
+        Ok(_) => panic!("{what}: accepted"),
+        Err(ScenarioError::Invalid { key, message, .. }) => (key, message),
+        Err(other) => panic!("{what}: refused without a key: {other}"),
+    }
+}
+
+/// An ASCII STL file of one triangle with these corners (m).
+pub fn triangle_stl(corners: [[f64; 3]; 3]) -> String {
+    let v: Vec<String> = corners.iter().map(|c| format!("vertex {} {} {}", c[0], c[1], c[2])).collect();
+    format!("solid t\nfacet normal 0 0 1\nouter loop\n{}\nendloop\nendfacet\nendsolid t\n", v.join("\n"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_wall_and_floor_are_the_default_scenes_targets() {
+        let text = format!(
+            "[simulation]\nseed = 1\n[process]\npreset = \"shotcrete\"\n[emitter]\ncone_angle = 18.0\n\
+             direction = \"uniform_solid_angle\"\n{NOZZLE_AT_WALL}{}{}[output]\ndirectory = \"out\"\n",
+            wall().resolution(1024, 1024).splat_radius(0.008).with("role = \"substrate\""),
+            floor().resolution(400, 300).splat_radius(0.01),
+        );
+        assert_eq!(scenario(&text, "built"), Scenario::default_scene());
+    }
+
+    #[test]
+    fn a_face_is_written_key_by_key_in_a_fixed_order() {
+        let face =
+            wall().named("panel").size(1.0, 0.5).resolution(10, 5).coating(1e-4).with("edges = \"held\"");
+        assert_eq!(
+            face.to_string(),
+            "[[target]]\nname = \"panel\"\ncenter = [0.0, 0.0, 1.0]\nnormal = [-1.0, 0.0, 0.0]\n\
+             up = [0.0, 0.0, 1.0]\nsize = [1.0, 0.5]\nresolution = [10, 5]\ncoating = 0.0001\nedges = \"held\"\n"
+        );
+        assert!(floor().substrate().to_string().lines().all(|l| !l.starts_with("role")));
+    }
+
+    #[test]
+    fn each_integrator_is_selected_by_its_word() {
+        for integrator in [Integrator::Euler, Integrator::SemiImplicitEuler, Integrator::Exact] {
+            let text = format!("[simulation]\nintegrator = \"{}\"\n", integrator_word(integrator));
+            assert_eq!(scenario(&text, "integrator").simulation().integrator, integrator);
+        }
+    }
+}
