@@ -35,7 +35,7 @@ impl Tessellation {
         self.triangles.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
     }
 
-    /// Adds a flat disk of [`ROUND`] segments about `centre`, radius `radius` (m), in the plane
+    /// Adds a flat disk of 24 segments (`ROUND`) about `centre`, radius `radius` (m), in the plane
     /// spanned by the unit vectors `u` and `v`, with `normal`.
     pub fn disk(&mut self, centre: DVec3, (u, v): (DVec3, DVec3), radius: f64, normal: DVec3) {
         let mid = self.vertex(centre, normal);
