@@ -4,8 +4,8 @@
 //! panics, hangs or reports a negative or non-finite amount.
 
 use proptest::prelude::*;
+use spraysim::scenario::scenes::{bar, floor, triangle_stl, wall, wall_scene};
 use spraysim::{Scenario, Simulation, SimulationConfig};
-use spraysim_validate::scenes::{floor, triangle_stl, wall, wall_scene};
 use std::path::Path;
 
 /// The saved state of the example wall 60 ms into a 0.1 s run, and its configuration.
@@ -80,17 +80,12 @@ circle_frequency = 3.0
 name = "panel"
 shape = "mesh"
 file = "panel.stl"
-[[obstacle]]
-name = "bar"
-shape = "cylinder"
-start = [-0.05, -1.0, 1.0]
-end = [-0.05, 1.0, 1.0]
-radius = 0.01
-[output]
+{bar}[output]
 impact_log = 0.2
 "#,
         wall = wall().size(1.0, 1.0).resolution(48, 48).splat_radius(0.02).coating(1e-4),
         floor = floor().at([-0.5, 0.0, 0.0]).size(1.5, 1.5).resolution(24, 24),
+        bar = bar("bar", [-0.05, -1.0, 1.0], [-0.05, 1.0, 1.0], 0.01),
     );
     std::fs::write(dir.join("busy.toml"), text).expect("write");
     Scenario::from_path(&dir.join("busy.toml"))

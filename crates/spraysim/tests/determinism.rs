@@ -1,7 +1,7 @@
 //! Same scenario and seed, same bytes: whatever the thread count.
 
 use spraysim::Scenario;
-use spraysim_validate::scenes::{floor, wall};
+use spraysim::scenario::scenes::{floor, wall};
 use std::collections::BTreeMap;
 use std::path::Path;
 

@@ -139,39 +139,33 @@ fn anchor(heading: &str) -> String {
         .collect()
 }
 
-/// The anchors of a page's headings (outside code blocks).
-fn anchors(text: &str) -> Vec<String> {
+/// The lines of a page outside its code blocks (a line beginning with ```` ``` ```` opens or
+/// closes one, and is itself left out).
+fn prose(text: &str) -> impl Iterator<Item = &str> {
     let mut fenced = false;
-    let mut out = Vec::new();
-    for line in text.lines() {
+    text.lines().filter(move |line| {
         if line.starts_with("```") {
             fenced = !fenced;
-        } else if !fenced && line.starts_with('#') {
-            out.push(anchor(line.trim_start_matches('#')));
+            return false;
         }
-    }
-    out
+        !fenced
+    })
+}
+
+/// The anchors of a page's headings (outside code blocks).
+fn anchors(text: &str) -> Vec<String> {
+    prose(text)
+        .filter(|line| line.starts_with('#'))
+        .map(|line| anchor(line.trim_start_matches('#')))
+        .collect()
 }
 
 /// The targets of a page's Markdown links and images, `](target)`, outside code blocks.
 fn links(text: &str) -> Vec<String> {
-    let mut fenced = false;
-    let mut out = Vec::new();
-    for line in text.lines() {
-        if line.starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
-        for part in line.split("](").skip(1) {
-            if let Some(end) = part.find(')') {
-                out.push(part[..end].to_string());
-            }
-        }
-    }
-    out
+    prose(text)
+        .flat_map(|line| line.split("](").skip(1))
+        .filter_map(|part| part.find(')').map(|end| part[..end].to_string()))
+        .collect()
 }
 
 /// Every relative link of the README and `docs/` leads to a file that exists, and every

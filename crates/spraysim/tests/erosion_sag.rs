@@ -1,8 +1,8 @@
 //! Blasting erosion of a coating, and sag risk of a painted film.
 
 use spraysim::deposit::DepositSurface;
+use spraysim::scenario::scenes::wall;
 use spraysim::{Metrics, Scenario, Simulation};
-use spraysim_validate::scenes::wall;
 
 /// A wall under a `coating` m thick coat, blasted for 0.5 s from a nozzle 0.3 m away whose axis
 /// makes `gamma_deg` with the wall, with a spray cone of `cone_deg`.

@@ -1,8 +1,8 @@
 //! Triangle-mesh obstacles from OBJ and STL files.
 
 use spraysim::collision::Primitive;
+use spraysim::scenario::scenes::{NOZZLE_AT_WALL, refusal, triangle_stl, wall, wall_scene};
 use spraysim::{Metrics, Scenario, Simulation};
-use spraysim_validate::scenes::{NOZZLE_AT_WALL, refusal, triangle_stl, wall, wall_scene};
 use std::path::Path;
 
 /// Corners of a cube of side 0.2 m centred at (−0.3, 0, 1) and its 12 outward triangles.

@@ -3,20 +3,10 @@
 //! running `spraysim`, kills and Ctrl-C, are in the command's own tests.)
 
 use spraysim::Scenario;
-use spraysim::output::directory::{LOCK_FILE, RUN_RECORD};
+use spraysim::output::directory::{LOCK_FILE, RUN_RECORD, entries};
 use spraysim::output::{FILE_LIST, STAGING_PREFIX, write_outputs};
-use spraysim_validate::scenes::{Rectangle, floor, wall_scene};
+use spraysim::scenario::scenes::{Rectangle, floor, wall_scene};
 use std::path::Path;
-
-/// The files in `dir`, sorted, dot-files included.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
 
 /// Checks that `dir` holds exactly the set its `metrics.json` lists, each file with its size
 /// and hash, beside the list of names; returns the set's names.
@@ -33,7 +23,8 @@ fn assert_one_complete_set(dir: &Path) -> Vec<String> {
     }
     expected.sort();
     // Besides the set: the lock and the record of the run the directory holds.
-    let names: Vec<String> = listing(dir).into_iter().filter(|n| n != LOCK_FILE && n != RUN_RECORD).collect();
+    let names: Vec<String> =
+        entries(dir).expect("dir").into_iter().filter(|n| n != LOCK_FILE && n != RUN_RECORD).collect();
     assert_eq!(names, expected);
     expected
 }

@@ -5,9 +5,9 @@ use glam::DVec3;
 use spraysim::deposit::DepositSurface;
 use spraysim::emission::{Aperture, Direction, Emitter};
 use spraysim::scenario::SHOTCRETE_REBOUND_POLYNOMIAL;
+use spraysim::scenario::scenes::{bar, wall};
 use spraysim::world::Role;
 use spraysim::{Metrics, Scenario, Simulation};
-use spraysim_validate::scenes::wall;
 
 fn scenario(text: &str) -> Scenario {
     Scenario::from_toml(text, "test").unwrap_or_else(|e| panic!("{e}"))
@@ -206,8 +206,7 @@ fn blasting_leaves_nothing_stuck_on_the_substrate() {
 #[test]
 fn particles_never_end_a_step_inside_a_solid() {
     // Grit blasted at a sphere, a box and a bar in front of a wall: thousands of rebounds.
-    let sc = panel(
-        "blasting",
+    let obstacles = format!(
         r#"
         [[obstacle]]
         name = "ball"
@@ -220,14 +219,10 @@ fn particles_never_end_a_step_inside_a_solid() {
         center = [-0.1, -0.08, 1.02]
         size = [0.05, 0.06, 0.08]
         x_axis = [1.0, 1.0, 0.0]
-        [[obstacle]]
-        name = "bar"
-        shape = "cylinder"
-        start = [-0.05, -0.5, 0.97]
-        end = [-0.05, 0.5, 0.97]
-        radius = 0.01
-        "#,
+        {}"#,
+        bar("bar", [-0.05, -0.5, 0.97], [-0.05, 0.5, 0.97], 0.01),
     );
+    let sc = panel("blasting", &obstacles);
     let mut sim = sc.build().expect("valid");
     let mut checked = 0usize;
     while !sim.is_finished() {

@@ -9,7 +9,7 @@
 use proptest::prelude::*;
 use spraysim::Scenario;
 use spraysim::scenario::ScenarioError;
-use spraysim_validate::scenes::{NOZZLE_AT_WALL, floor, refusal, wall, wall_scene};
+use spraysim::scenario::scenes::{NOZZLE_AT_WALL, floor, refusal, wall, wall_scene};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};

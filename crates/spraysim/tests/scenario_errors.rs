@@ -2,8 +2,8 @@
 //! (the budget of memory is in tests/property.rs); the resolved scenario reads back as it was,
 //! from any working directory.
 
+use spraysim::scenario::scenes::{NOZZLE_AT_WALL, refusal, triangle_stl, wall, wall_scene};
 use spraysim::{Scenario, ScenarioError};
-use spraysim_validate::scenes::{NOZZLE_AT_WALL, refusal, triangle_stl, wall, wall_scene};
 use std::path::Path;
 
 /// A valid scenario: 1 s of shotcrete at 1000 particles/s from the nozzle at the wall, 64 × 64

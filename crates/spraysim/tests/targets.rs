@@ -4,8 +4,8 @@
 use glam::DVec3;
 use spraysim::Scenario;
 use spraysim::deposit::{DepositSurface, Surface};
+use spraysim::scenario::scenes::wall;
 use spraysim_validate::chi2_limit as chi2_limit_for;
-use spraysim_validate::scenes::wall;
 use spraysim_validate::targets::{shell_cos3, sphere_cos3};
 use std::fmt::Write as _;
 use std::path::Path;

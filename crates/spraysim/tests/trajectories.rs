@@ -5,7 +5,7 @@ use spraysim::Scenario;
 use spraysim::collision::Face;
 use spraysim::deposit::DepositSurface;
 use spraysim::emission::{PassDirection, RasterPlan, raster, raster_waypoints};
-use spraysim_validate::scenes;
+use spraysim::scenario::scenes;
 
 fn wall() -> Face {
     Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::new(-1.0, 0.0, 0.0), DVec3::Z, [2.0, 2.0])

@@ -2,34 +2,26 @@
 
 mod common;
 
-use common::{bookkeeping, spraysim, stderr};
+use common::{bookkeeping, listing, spraysim, stderr};
+use spraysim::scenario::scenes::wall_scene;
 use std::path::Path;
 use std::process::Command;
 
-const SMALL: &str = r#"
-[simulation]
-duration = 0.05
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-"#;
+/// The smallest runnable scene the tests start from: 0.05 s onto the wall at 32 × 32 cells.
+fn small() -> String {
+    wall_scene(0.05, 32)
+}
 
 #[test]
 fn run_writes_every_output() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), small()).expect("write");
     let o = spraysim(&["run", "s.toml", "-o", "res", "-q"], tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
-    let mut names: Vec<String> = std::fs::read_dir(tmp.path().join("res"))
-        .expect("output dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+    let names: Vec<String> = listing(&tmp.path().join("res"))
+        .into_iter()
         .filter(|n| n != ".spraysim-files" && !bookkeeping(n))
         .collect();
-    names.sort();
     assert_eq!(
         names,
         [
@@ -55,11 +47,11 @@ fn run_writes_every_output() {
 fn bad_scenarios_are_refused_and_write_nothing() {
     let tmp = tempfile::tempdir().expect("tempdir");
     for (i, (bad, expect)) in [
-        (SMALL.replace("duration = 0.05", "duration = 0.05\ndt = -1.0"), "`simulation.dt`"),
-        (SMALL.replace("resolution = [32, 32]", "resolution = [32, 0]"), "`target[0].resolution`"),
-        (SMALL.replace("up = [0.0, 0.0, 1.0]", "up = [1.0, 0.0, 0.0]"), "`target[0].up`"),
-        (SMALL.replace("[simulation]", "[simulation]\nspeed = 3.0"), "`simulation.speed` is not a key"),
-        (format!("{SMALL}\n[process]\npreset = \"gunite\"\n"), "`process.preset` must be one of"),
+        (small().replace("duration = 0.05", "duration = 0.05\ndt = -1.0"), "`simulation.dt`"),
+        (small().replace("resolution = [32, 32]", "resolution = [32, 0]"), "`target[0].resolution`"),
+        (small().replace("up = [0.0, 0.0, 1.0]", "up = [1.0, 0.0, 0.0]"), "`target[0].up`"),
+        (small().replace("[simulation]", "[simulation]\nspeed = 3.0"), "`simulation.speed` is not a key"),
+        (format!("{}\n[process]\npreset = \"gunite\"\n", small()), "`process.preset` must be one of"),
     ]
     .into_iter()
     .enumerate()
@@ -79,7 +71,7 @@ fn bad_scenarios_are_refused_and_write_nothing() {
 #[test]
 fn an_output_directory_under_a_file_is_refused_before_the_run() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), small()).expect("write");
     std::fs::write(tmp.path().join("plain-file"), "").expect("write");
     let o = spraysim(&["run", "s.toml", "-o", "plain-file/out"], tmp.path());
     assert!(!o.status.success());
@@ -90,7 +82,7 @@ fn an_output_directory_under_a_file_is_refused_before_the_run() {
 #[test]
 fn check_reports_steps_particles_and_memory() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), small()).expect("write");
     let o = spraysim(&["check", "s.toml"], tmp.path());
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success() && text.contains("50 steps") && text.contains("particles"), "{text}");
@@ -121,7 +113,7 @@ fn presets_paste_into_scenarios() {
         let (header, body) = chunk.split_once('\n').expect("header line");
         let name = header.trim_end_matches(" ----");
         let file = format!("{name}.toml");
-        std::fs::write(tmp.path().join(&file), format!("{SMALL}\n{body}")).expect("write");
+        std::fs::write(tmp.path().join(&file), format!("{}\n{body}", small())).expect("write");
         let check = spraysim(&["check", &file, "--resolved"], tmp.path());
         assert!(check.status.success(), "{name}: {}", stderr(&check));
         assert!(String::from_utf8_lossy(&check.stdout).contains(&format!("preset = \"{name}\"")));
@@ -174,7 +166,7 @@ fn calibrate_refuses_bad_input_and_writes_nothing() {
         .expect("write");
     std::fs::write(
         tmp.path().join("polar.toml"),
-        format!("{SMALL}\n[emitter]\ndirection = \"uniform_polar\"\n"),
+        format!("{}\n[emitter]\ndirection = \"uniform_polar\"\n", small()),
     )
     .expect("write");
     let (scenario, profile) = (example("calibrate.toml"), example("profile.csv"));
@@ -240,7 +232,8 @@ fn bench_refuses_a_bad_reference_scene_without_a_panic() {
 #[test]
 fn a_build_without_3d_views_refuses_them_before_the_run_and_says_how_to_build_them() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), format!("{SMALL}\n[output]\nrender = true\n")).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), format!("{}\n[output]\nrender = true\n", small()))
+        .expect("write");
     let o = spraysim(&["run", "s.toml", "-o", "res", "-q"], tmp.path());
     assert!(!o.status.success());
     assert!(
@@ -262,7 +255,7 @@ fn a_build_without_3d_views_refuses_them_before_the_run_and_says_how_to_build_th
 #[test]
 fn render_writes_the_stills_asked_for_and_run_writes_its_views_with_its_outputs() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), SMALL).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), small()).expect("write");
     let o = spraysim(
         &["render", "s.toml", "-o", "views", "--at", "0.02,end", "--size", "320x200", "-q"],
         tmp.path(),
@@ -275,7 +268,8 @@ fn render_writes_the_stills_asked_for_and_run_writes_its_views_with_its_outputs(
         let img = image_size(&tmp.path().join("views").join(name));
         assert_eq!(img, (320, 200), "{name}");
     }
-    let with = format!("{SMALL}\n[output.render]\nat = [\"end\"]\nsize = [200, 120]\ncamera = \"front\"\n");
+    let with =
+        format!("{}\n[output.render]\nat = [\"end\"]\nsize = [200, 120]\ncamera = \"front\"\n", small());
     std::fs::write(tmp.path().join("r.toml"), with).expect("write");
     let o = spraysim(&["run", "r.toml", "-o", "res", "-q"], tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));

@@ -7,35 +7,25 @@
 
 mod common;
 
-use common::{contents, listing, one_complete_set, paused_at, signal, spraysim, wait_for};
+use common::{contents, killed_at, listing, one_complete_set, paused_at, signal, spraysim, wait_for};
+use spraysim::scenario::scenes::{floor, wall};
 
-const SCENE: &str = r#"
-[simulation]
-duration = 0.2
-[output]
-impact_log = 0.2
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-[[target]]
-name = "floor"
-role = "collector"
-center = [-1.5, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-up = [1.0, 0.0, 0.0]
-size = [4.0, 3.0]
-resolution = [16, 16]
-"#;
+/// 0.2 s onto the wall at 32 × 32 cells over the floor at 16 × 16 named `floor_name`, with an
+/// impact log every `impact_log` s (written as TOML; 0: none).
+fn scene(floor_name: &str, impact_log: &str) -> String {
+    format!(
+        "[simulation]\nduration = 0.2\n[output]\nimpact_log = {impact_log}\n{}{}",
+        wall().resolution(32, 32),
+        floor().named(floor_name).resolution(16, 16),
+    )
+}
 
+/// A folder with the scene as `s.toml`, and as `ground.toml` with its floor named `ground` and
+/// no impact log.
 fn setup() -> tempfile::TempDir {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), SCENE).expect("write");
-    let ground = SCENE.replace("\"floor\"", "\"ground\"").replace("impact_log = 0.2", "impact_log = 0");
-    std::fs::write(tmp.path().join("ground.toml"), ground).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), scene("floor", "0.2")).expect("write");
+    std::fs::write(tmp.path().join("ground.toml"), scene("ground", "0")).expect("write");
     tmp
 }
 
@@ -62,9 +52,7 @@ fn a_kill_while_files_move_into_place_leaves_no_mixed_set() {
     let out = tmp.path().join("out");
     assert!(spraysim(&["run", "s.toml", "-o", "out", "-q"], tmp.path()).status.success());
     // Killed after two of the new files moved in: the index is gone, so no set is claimed.
-    let (mut child, _err) = paused_at(&["run", "ground.toml", "-o", "out", "-q"], tmp.path(), "commit:2");
-    child.kill().expect("kill -9");
-    child.wait().expect("wait");
+    killed_at(&["run", "ground.toml", "-o", "out", "-q"], tmp.path(), "commit:2");
     assert!(!out.join("metrics.json").exists(), "metrics.json beside files of another run");
     assert!(listing(&out).iter().any(|n| n.starts_with(".spraysim-staging-")));
     // The next run cleans up after it: one complete set, nothing of either earlier run.
@@ -115,9 +103,7 @@ fn a_resume_after_kill_9_is_byte_identical_to_an_uninterrupted_run() {
     let reference = contents(&out);
     std::fs::remove_dir_all(&out).expect("rm");
     // Killed between the checkpoints at 0.10 s and 0.15 s, then resumed on one thread.
-    let (mut child, _err) = paused_at(&args, tmp.path(), "step:120");
-    child.kill().expect("kill -9");
-    child.wait().expect("wait");
+    killed_at(&args, tmp.path(), "step:120");
     assert!(out.join("checkpoint.spraysim").exists());
     let o = spraysim(&["resume", "out", "-q", "-j", "1"], tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -5,28 +5,20 @@
 
 mod common;
 
-use common::{contents, listing, one_complete_set, paused_at, signal, spraysim, stderr, wait_for};
+use common::{contents, killed_at, listing, one_complete_set, paused_at, signal, spraysim, stderr, wait_for};
+use spraysim::scenario::scenes::wall;
 use std::os::unix::fs::symlink;
 use std::path::Path;
 
-const SCENE: &str = r#"
-[simulation]
-duration = 0.1
-[output]
-impact_log = 0.2
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-"#;
+/// 0.1 s onto the wall at 32 × 32 cells, with an impact log every 0.2 s.
+fn scene() -> String {
+    format!("[simulation]\nduration = 0.1\n[output]\nimpact_log = 0.2\n{}", wall().resolution(32, 32))
+}
 
 /// A folder with the scene as `s.toml`, and `victim/keep.txt` beside where the outputs go.
 fn setup() -> tempfile::TempDir {
     let tmp = tempfile::tempdir().expect("tempdir");
-    std::fs::write(tmp.path().join("s.toml"), SCENE).expect("write");
+    std::fs::write(tmp.path().join("s.toml"), scene()).expect("write");
     std::fs::create_dir_all(tmp.path().join("victim")).expect("mkdir");
     std::fs::write(tmp.path().join("victim/keep.txt"), "precious").expect("write");
     tmp
@@ -37,11 +29,15 @@ fn victim_intact(tmp: &Path) {
     assert_eq!(kept, "precious");
 }
 
+/// The SHA-256 of `bytes`, as lower-case hex (as the list and `metrics.json` give it).
+fn sha256(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// The list line spraysim writes for a file of these contents.
 fn list_line(name: &str, contents: &[u8]) -> String {
-    use sha2::Digest;
-    let hash: String = sha2::Sha256::digest(contents).iter().map(|b| format!("{b:02x}")).collect();
-    format!("{hash} {} {name}\n", contents.len())
+    format!("{} {} {name}\n", sha256(contents), contents.len())
 }
 
 #[test]
@@ -157,10 +153,8 @@ fn a_second_writer_is_refused_naming_the_first_and_the_first_completes_its_set()
     // The first run's manifest describes the files on disk, the resolved scenario included.
     let metrics = one_complete_set(&out);
     for f in metrics["files"].as_array().expect("manifest") {
-        use sha2::Digest;
         let bytes = std::fs::read(out.join(f["name"].as_str().expect("name"))).expect("read");
-        let hash: String = sha2::Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
-        assert_eq!(f["sha256"].as_str(), Some(hash.as_str()), "{}", f["name"]);
+        assert_eq!(f["sha256"].as_str(), Some(sha256(&bytes).as_str()), "{}", f["name"]);
     }
     let resolved = std::fs::read_to_string(out.join("scenario.resolved.toml")).expect("read");
     assert!(!resolved.contains("seed = 9"), "the refused run wrote nothing");
@@ -170,9 +164,7 @@ fn a_second_writer_is_refused_naming_the_first_and_the_first_completes_its_set()
 fn a_second_resume_of_one_run_is_refused_while_the_first_goes_on() {
     let tmp = setup();
     let args = ["run", "s.toml", "-q", "-o", "out", "--checkpoint-every", "20ms"];
-    let (mut child, _err) = paused_at(&args, tmp.path(), "step:50");
-    signal(&child, "KILL");
-    child.wait().expect("wait");
+    killed_at(&args, tmp.path(), "step:50");
     let (mut first, _err) = paused_at(&["resume", "out", "-q"], tmp.path(), "step:60");
     let o = spraysim(&["resume", "out", "-q"], tmp.path());
     assert!(!o.status.success());
@@ -241,9 +233,7 @@ fn a_write_that_fails_part_way_moves_the_previous_set_back() {
 fn a_checkpoint_copied_from_another_runs_directory_is_refused() {
     let tmp = setup();
     let args = ["run", "s.toml", "-q", "-o", "a", "--checkpoint-every", "20ms"];
-    let (mut child, _err) = paused_at(&args, tmp.path(), "step:50");
-    signal(&child, "KILL");
-    child.wait().expect("wait");
+    killed_at(&args, tmp.path(), "step:50");
     let o = spraysim(&["run", "s.toml", "-q", "-o", "b", "--set", "simulation.seed=5"], tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
     let b = tmp.path().join("b");
@@ -264,9 +254,7 @@ fn a_checkpoint_with_a_nan_position_is_refused_not_looped_on() {
     use spraysim::output::checkpoint::{Checkpoint, read_checkpoint, write_checkpoint};
     let tmp = setup();
     let args = ["run", "s.toml", "-q", "-o", "out", "--checkpoint-every", "20ms"];
-    let (mut child, _err) = paused_at(&args, tmp.path(), "step:50");
-    signal(&child, "KILL");
-    child.wait().expect("wait");
+    killed_at(&args, tmp.path(), "step:50");
     let out = tmp.path().join("out");
     let mut ck: Checkpoint = read_checkpoint(&out).expect("a checkpoint");
     // The state begins with its version (4 bytes), the step (8), the nozzle's particle volume

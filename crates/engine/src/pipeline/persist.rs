@@ -9,7 +9,7 @@ use crate::emission::NozzlePath;
 use crate::events::{FailureEvent, ImpactEvent};
 use crate::particles::Swarm;
 use crate::particles::flags;
-use crate::tally::{Amount, Gauge};
+use crate::tally::{Amount, Gauge, Tally};
 
 impl Simulation {
     /// Everything this run has changed since it was set up, as bytes (see
@@ -98,22 +98,27 @@ fn save(s: &State, e: &mut Enc) {
     s.watches.save_state(e);
 }
 
+/// The run's totals in the order a state holds them: one list that [`save_totals`] writes,
+/// [`load_totals`] reads back and [`check_totals`] checks.
+fn run_totals(t: &mut Tally) -> [&mut Amount; 10] {
+    [
+        &mut t.emitted,
+        &mut t.left_domain,
+        &mut t.expired,
+        &mut t.substrate_first_impacts,
+        &mut t.substrate_first_rebounds,
+        &mut t.released,
+        &mut t.released_left,
+        &mut t.released_expired,
+        &mut t.dripped,
+        &mut t.ran_off,
+    ]
+}
+
 /// The run's totals, failures, path statistics and impact log.
 fn save_totals(s: &State, e: &mut Enc) {
-    let t = &s.tally;
-    for a in [
-        t.emitted,
-        t.left_domain,
-        t.expired,
-        t.substrate_first_impacts,
-        t.substrate_first_rebounds,
-        t.released,
-        t.released_left,
-        t.released_expired,
-        t.dripped,
-        t.ran_off,
-    ] {
-        amount(e, a);
+    for a in run_totals(&mut s.tally.clone()) {
+        amount(e, *a);
     }
     e.u64(s.next_id);
     e.u64(s.particle_steps);
@@ -203,19 +208,7 @@ fn load_target(t: &mut crate::world::Target, d: &mut Dec<'_>) -> Result<(), Stat
 }
 
 fn load_totals(s: &mut State, d: &mut Dec<'_>) -> Result<(), StateError> {
-    let t = &mut s.tally;
-    for a in [
-        &mut t.emitted,
-        &mut t.left_domain,
-        &mut t.expired,
-        &mut t.substrate_first_impacts,
-        &mut t.substrate_first_rebounds,
-        &mut t.released,
-        &mut t.released_left,
-        &mut t.released_expired,
-        &mut t.dripped,
-        &mut t.ran_off,
-    ] {
+    for a in run_totals(&mut s.tally) {
         *a = read_amount(d)?;
     }
     s.next_id = d.u64()?;
@@ -342,18 +335,8 @@ fn check_totals(s: &State) -> Result<(), String> {
         check_amount("an obstacle's stuck material", o.stuck)?;
         check_amount("an obstacle's received material", o.received)?;
     }
-    let t = &s.tally;
-    for a in [
-        t.emitted,
-        t.left_domain,
-        t.expired,
-        t.released,
-        t.released_left,
-        t.released_expired,
-        t.dripped,
-        t.ran_off,
-    ] {
-        check_amount("a run total", a)?;
+    for a in run_totals(&mut s.tally.clone()) {
+        check_amount("a run total", *a)?;
     }
     let finite_failure = |f: &FailureEvent| {
         f.time.is_finite() && f.area.is_finite() && f.volume.is_finite() && f.volume >= 0.0
@@ -442,6 +425,11 @@ mod tests {
         err
     }
 
+    /// The index of the first particle of `sim` still in flight.
+    fn in_flight(sim: &Simulation) -> usize {
+        (0..sim.state.swarm.len()).find(|&i| sim.state.swarm.flags[i] & flags::ALIVE != 0).expect("alive")
+    }
+
     fn invalid(err: StateError, words: &str) {
         match err {
             StateError::Invalid(m) => assert!(m.contains(words), "{m}"),
@@ -460,9 +448,7 @@ mod tests {
     #[test]
     fn a_particle_with_a_nan_position_or_velocity_is_refused() {
         let mut sim = running();
-        let i = (0..sim.state.swarm.len())
-            .find(|&i| sim.state.swarm.flags[i] & flags::ALIVE != 0)
-            .expect("alive");
+        let i = in_flight(&sim);
         sim.state.swarm.pos[i].y = f64::NAN;
         invalid(restore(&sim), "non-finite");
         let mut sim = running();
@@ -473,9 +459,7 @@ mod tests {
     #[test]
     fn a_particle_outside_the_domain_or_impossibly_fast_is_refused() {
         let mut sim = running();
-        let i = (0..sim.state.swarm.len())
-            .find(|&i| sim.state.swarm.flags[i] & flags::ALIVE != 0)
-            .expect("alive");
+        let i = in_flight(&sim);
         sim.state.swarm.pos[i].x = 1e6;
         invalid(restore(&sim), "outside the domain");
         let mut sim = running();
@@ -517,9 +501,12 @@ mod tests {
         bytes[at..at + 8].copy_from_slice(&(-value).to_le_bytes());
         let mut fresh = Simulation::new(sim.config().clone()).expect("valid");
         invalid(fresh.restore_state(&bytes).expect_err("refused"), &format!("in cell {cell}"));
-        let mut sim = running();
-        sim.state.tally.emitted.volume = -1.0;
-        invalid(restore(&sim), "volume -1");
+        // Every run total the state holds is checked, the first impacts on the substrate too.
+        for total in 0..10 {
+            let mut sim = running();
+            *run_totals(&mut sim.state.tally)[total] = Amount { count: 1, volume: -1.0 };
+            invalid(restore(&sim), "a run total has volume -1");
+        }
     }
 
     #[test]

@@ -12,6 +12,9 @@
 //! Every file a user names (scenarios, meshes, tool paths, and the checkpoints and profiles of
 //! other crates) is read through [`read_input`]: regular files only, each kind within a cap.
 //!
+//! Scenes written in code (tests, checks, benchmarks) are put together from the TOML building
+//! blocks of [`scenes`]: the default scene's wall and floor, its nozzle, a small wall scene.
+//!
 //! ```
 //! use spraysim_scenario::Scenario;
 //!
@@ -32,6 +35,7 @@ mod params;
 mod presets;
 mod reader;
 mod scenario;
+pub mod scenes;
 mod tool_path;
 
 pub use budget::{Budget, MemoryPart, bytes_text, default_memory_limit, machine_memory};

@@ -1,19 +1,13 @@
 //! Every refusal points at where the mistake was made: the override that made it, the line
 //! and key of the file, the row of a tool path; and prints its numbers compactly.
 
+use spraysim_scenario::scenes::wall_scene;
 use spraysim_scenario::{Scenario, ScenarioError};
 
-const WALL: &str = r#"
-[simulation]
-duration = 0.05
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-"#;
+/// The wall scene the tests change: 0.05 s onto the wall at 32 × 32 cells.
+fn wall() -> String {
+    wall_scene(0.05, 32)
+}
 
 /// The location, key and message of a refusal that names a key.
 fn invalid(result: Result<Scenario, ScenarioError>) -> (String, String, String) {
@@ -26,7 +20,7 @@ fn invalid(result: Result<Scenario, ScenarioError>) -> (String, String, String) 
 
 #[test]
 fn an_unknown_key_given_as_an_override_is_blamed_on_the_override() {
-    let file = Scenario::from_toml(WALL, "wall.toml").expect("valid");
+    let file = Scenario::from_toml(&wall(), "wall.toml").expect("valid");
     for base in [Scenario::default_scene(), file] {
         let err = base.with_assignment("foo.bar=1").expect_err("no such key");
         assert!(err.to_string().starts_with("--set foo.bar=1: `foo` is not a key of a scenario"), "{err}");
@@ -76,7 +70,7 @@ fn a_table_or_key_given_twice_is_refused_naming_it() {
 
 #[test]
 fn a_nul_byte_is_refused_at_its_line_as_not_allowed_in_toml() {
-    let text = format!("{WALL}splat_radius = 0.01\0\n");
+    let text = format!("{}splat_radius = 0.01\0\n", wall());
     let err = Scenario::from_toml(&text, "t.toml").expect_err("a NUL byte");
     let ScenarioError::Syntax { location, message } = &err else { panic!("{err}") };
     assert_eq!(location, &format!("t.toml:{}", text.lines().count()));
@@ -128,7 +122,7 @@ fn numbers_in_messages_print_compactly_at_any_magnitude() {
 
 #[test]
 fn a_refused_override_is_blamed_on_the_override_even_in_a_table_it_made() {
-    let base = Scenario::from_toml(WALL, "wall.toml").expect("valid");
+    let base = Scenario::from_toml(&wall(), "wall.toml").expect("valid");
     let (location, key, _) = invalid(base.with("target[0].size", [-1.0, 1.0]));
     assert_eq!((location.as_str(), key.as_str()), ("--set target[0].size=[-1.0, 1.0]", "target[0].size"));
     let (location, key, _) = invalid(base.with("process.impact.no_such_key", 1.0));
@@ -139,7 +133,7 @@ fn a_refused_override_is_blamed_on_the_override_even_in_a_table_it_made() {
     // A key of the file that an override replaced is the override's; the others stay the file's.
     let (location, _, _) = invalid(base.with("simulation.duration", -1.0));
     assert_eq!(location, "--set simulation.duration=-1.0");
-    let text = WALL.replace("resolution = [32, 32]", "resolution = [32, 0]");
+    let text = wall().replace("resolution = [32, 32]", "resolution = [32, 0]");
     let line = text.lines().position(|l| l.starts_with("resolution")).map_or(0, |i| i + 1);
     let (location, key, _) = invalid(Scenario::from_toml(&text, "wall.toml"));
     assert_eq!((location, key.as_str()), (format!("wall.toml:{line}"), "target[0].resolution"));

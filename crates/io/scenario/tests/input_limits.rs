@@ -2,22 +2,11 @@
 //! is refused before it is read, and without waiting on it), and never more bytes than their
 //! kind's cap.
 
+use spraysim_scenario::scenes::wall_scene;
 use spraysim_scenario::{InputKind, InputProblem, Scenario, ScenarioError, read_input};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
-
-const WALL: &str = r#"
-[simulation]
-duration = 0.05
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-"#;
 
 /// Runs `f` on another thread and gives its result; panics if it has not returned after a
 /// minute, so that a read that blocks (on a FIFO nobody writes to) fails the test instead of
@@ -37,40 +26,40 @@ fn fifo(path: &Path) -> Option<PathBuf> {
     made.success().then(|| path.to_path_buf())
 }
 
+/// The wall scene the tests add to: 0.05 s onto the wall at 32 × 32 cells.
+fn wall() -> String {
+    wall_scene(0.05, 32)
+}
+
 /// A scenario in `dir` with `extra` after the wall, read from its file.
 fn scenario_in(dir: &Path, extra: &str) -> Result<Scenario, ScenarioError> {
     let path = dir.join("s.toml");
-    std::fs::write(&path, format!("{WALL}\n{extra}")).expect("written");
+    std::fs::write(&path, format!("{}\n{extra}", wall())).expect("written");
     without_hanging("reading the scenario", move || Scenario::from_path(&path))
 }
 
 #[cfg(unix)]
 #[test]
-fn a_mesh_that_links_to_an_endless_device_is_refused_before_it_is_read() {
+fn a_mesh_or_tool_path_on_an_endless_device_is_refused_before_it_is_read() {
     if !Path::new("/dev/zero").exists() {
         return;
     }
     let dir = tempfile::tempdir().expect("a temporary folder");
     std::os::unix::fs::symlink("/dev/zero", dir.path().join("zero.stl")).expect("a link");
-    let extra = "[[obstacle]]\nname = \"o\"\nshape = \"mesh\"\nfile = \"zero.stl\"\n";
-    let err = scenario_in(dir.path(), extra).expect_err("a device is no mesh");
-    let text = err.to_string();
-    assert!(matches!(&err, ScenarioError::Invalid { key, .. } if key == "obstacle[0].file"), "{text}");
-    assert!(text.contains("zero.stl") && text.contains("a character device, not a regular file"), "{text}");
-}
-
-#[cfg(unix)]
-#[test]
-fn a_tool_path_on_an_endless_device_is_refused_before_it_is_read() {
-    if !Path::new("/dev/zero").exists() {
-        return;
+    // A mesh that links to the device, and a tool path that names it.
+    for (extra, named, shown) in [
+        (
+            "[[obstacle]]\nname = \"o\"\nshape = \"mesh\"\nfile = \"zero.stl\"\n",
+            "obstacle[0].file",
+            "zero.stl",
+        ),
+        ("[nozzle]\npath_csv = \"/dev/zero\"\n", "nozzle.path_csv", "/dev/zero"),
+    ] {
+        let err = scenario_in(dir.path(), extra).expect_err("a device is no mesh and no path");
+        let text = err.to_string();
+        assert!(matches!(&err, ScenarioError::Invalid { key, .. } if key == named), "{text}");
+        assert!(text.contains(shown) && text.contains("a character device, not a regular file"), "{text}");
     }
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let err =
-        scenario_in(dir.path(), "[nozzle]\npath_csv = \"/dev/zero\"\n").expect_err("a device is no path");
-    let text = err.to_string();
-    assert!(matches!(&err, ScenarioError::Invalid { key, .. } if key == "nozzle.path_csv"), "{text}");
-    assert!(text.contains("/dev/zero") && text.contains("a character device, not a regular file"), "{text}");
 }
 
 #[test]
@@ -164,7 +153,7 @@ fn over_the_cap_in_a_child() {
     }
     let dir = tempfile::tempdir().expect("a temporary folder");
     let path = dir.path().join("big.toml");
-    std::fs::write(&path, format!("{WALL}\n{}", "# padding\n".repeat(200))).expect("written");
+    std::fs::write(&path, format!("{}\n{}", wall(), "# padding\n".repeat(200))).expect("written");
     let err = Scenario::from_path(&path).expect_err("over 1 KiB");
     let text = err.to_string();
     assert!(matches!(err, ScenarioError::Read { .. }), "{text}");

@@ -1,31 +1,19 @@
 //! A robot tool path (`nozzle.path_csv`) is checked row by row, and every refusal names the
 //! CSV file and its line.
 
+use spraysim_scenario::scenes::wall_scene;
 use spraysim_scenario::{NozzleMotion, Scenario, ScenarioError};
-
-const WALL: &str = r#"
-[simulation]
-duration = 0.05
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-[nozzle]
-path_csv = "path.csv"
-"#;
 
 const HEADER: &str = "t,x,y,z,qx,qy,qz,qw\n";
 /// A pose spraying along +x: the tool's z axis turned a quarter about y.
 const ALONG_X: &str = "0,0.7071068,0,0.7071068";
 
-/// The scenario with the tool path `rows` (after the header), read from files.
+/// The wall scene with the tool path `rows` (after the header), read from files.
 fn with_path(rows: &str) -> Result<Scenario, ScenarioError> {
     let dir = tempfile::tempdir().expect("a temporary folder");
     std::fs::write(dir.path().join("path.csv"), format!("{HEADER}{rows}")).expect("written");
-    std::fs::write(dir.path().join("s.toml"), WALL).expect("written");
+    let scene = format!("{}[nozzle]\npath_csv = \"path.csv\"\n", wall_scene(0.05, 32));
+    std::fs::write(dir.path().join("s.toml"), scene).expect("written");
     Scenario::from_path(&dir.path().join("s.toml"))
 }
 

@@ -11,9 +11,8 @@
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::RectangleSurface;
 use spraysim_engine::motion::{Integrator, Lanes};
+use spraysim_scenario::scenes::{NOZZLE_AT_WALL, bar, floor, integrator_word, wall};
 use spraysim_scenario::{Scenario, ScenarioError};
-use spraysim_validate::scenes::{NOZZLE_AT_WALL, floor, integrator_word, wall};
-use std::fmt::Write;
 use std::time::Instant;
 
 pub mod baseline;
@@ -111,14 +110,9 @@ impl ReferenceScene {
             let offset = 0.15 * f64::from(k);
             for p in 0..n {
                 let (a, b) = (2.0 * p as f64 / n as f64, 2.0 * (p + 1) as f64 / n as f64);
-                let _ = write!(
-                    t,
-                    "[[obstacle]]\nname = \"v{k}_{p}\"\nshape = \"cylinder\"\nstart = [-0.05, {offset}, {a}]\nend = [-0.05, {offset}, {b}]\nradius = {radius}\n\
-                     [[obstacle]]\nname = \"h{k}_{p}\"\nshape = \"cylinder\"\nstart = [-0.067, {y0}, {z}]\nend = [-0.067, {y1}, {z}]\nradius = {radius}\n",
-                    z = 1.0 + offset,
-                    y0 = a - 1.0,
-                    y1 = b - 1.0,
-                );
+                let z = 1.0 + offset;
+                t.push_str(&bar(&format!("v{k}_{p}"), [-0.05, offset, a], [-0.05, offset, b], radius));
+                t.push_str(&bar(&format!("h{k}_{p}"), [-0.067, a - 1.0, z], [-0.067, b - 1.0, z], radius));
             }
         }
         t

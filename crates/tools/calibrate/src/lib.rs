@@ -29,7 +29,7 @@ pub enum CalibrationError {
     /// The profile file could not be read.
     #[error("{path}: cannot read the profile: {source}", path = path.display())]
     Read {
-        /// File.
+        /// The profile file that could not be read.
         path: PathBuf,
         /// Underlying error.
         #[source]

@@ -1,7 +1,6 @@
 //! The closed-form experiments: each runs the engine (or one of its models) and returns what it
 //! measured beside what the closed form says, with the statistic that compares them.
 
-use crate::scenes::{floor, integrator_word, scenario, wall};
 use glam::DVec3;
 use rand::SeedableRng;
 use spraysim_engine::deposit::DepositSurface;
@@ -10,6 +9,7 @@ use spraysim_engine::motion::Integrator;
 use spraysim_engine::process::rebound::AlwaysRebound;
 use spraysim_engine::process::{ImpactModel, Outcome};
 use spraysim_engine::{Metrics, Simulation};
+use spraysim_scenario::scenes::{floor, integrator_word, scenario, wall};
 use spraysim_scenario::{SHOTCRETE_REBOUND_POLYNOMIAL, Scenario};
 use std::f64::consts::PI;
 use std::sync::Arc;

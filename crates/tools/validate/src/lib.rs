@@ -5,7 +5,6 @@
 //! (`spraysim validate`). The test suite runs the same experiments at a smaller size.
 
 pub mod checks;
-pub mod scenes;
 pub mod shotcrete;
 mod shotcrete_report;
 pub mod targets;

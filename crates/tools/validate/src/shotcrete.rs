@@ -2,12 +2,12 @@
 //! the cushion effect of a static shot, and the slump of a fresh layer against Nye's heap and
 //! the wall limit.
 
-use crate::scenes::scenario;
 use glam::DVec3;
 use spraysim_engine::collision::Face;
 use spraysim_engine::deposit::{DepositSurface, RectangleSurface};
 use spraysim_engine::motion::GRAVITY;
 use spraysim_engine::process::layer::relax;
+use spraysim_scenario::scenes::scenario;
 use spraysim_scenario::{CushionLaw, Preset, ProcessParams, ReboundParams, Scenario};
 use std::f64::consts::PI;
 

@@ -10,12 +10,12 @@
 //! each triangle collects the share of the cone's solid angle it subtends.
 
 use super::checks::run;
-use crate::scenes::scenario;
 use glam::DVec3;
 use spraysim_engine::Simulation;
 use spraysim_engine::collision::Triangle;
 use spraysim_engine::deposit::{DepositSurface, MeshSurface, Surface};
 use spraysim_scenario::Scenario;
+use spraysim_scenario::scenes::scenario;
 use std::f64::consts::PI;
 
 /// A simulated deposit against its closed form, in bins.

@@ -70,7 +70,7 @@ pub enum RenderError {
     Encode {
         /// What was being encoded.
         what: String,
-        /// Reason.
+        /// Why the encoder refused it, as the encoder says.
         message: String,
     },
 }

@@ -77,7 +77,7 @@ impl ColorVertex {
 /// Indexed triangles.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
-    /// Vertices.
+    /// The corners the triangles index: position (m), normal and colour each.
     pub vertices: Vec<MeshVertex>,
     /// Triangles as vertex indices, three a triangle.
     pub indices: Vec<u32>,
@@ -114,7 +114,7 @@ pub enum Field {
 pub struct Show {
     /// Particles in flight.
     pub particles: bool,
-    /// Obstacles.
+    /// The obstacles (bars, boxes, meshes) in the particles' way.
     pub obstacles: bool,
     /// The deposit on the targets (else the bare targets).
     pub deposit: bool,
@@ -261,7 +261,7 @@ pub struct Scene {
     pub mesh: Mesh,
     /// Line segments, two vertices each: spray axis and cone, path, custom shapes' boxes.
     pub lines: Vec<ColorVertex>,
-    /// Particles.
+    /// The particles drawn, one point each at its position (m), coloured by the particle legend.
     pub points: Vec<ColorVertex>,
     /// Particle size, px.
     pub point_size: f32,

@@ -1,5 +1,5 @@
-//! What the command's tests share: starting `spraysim`, pausing it at a named point, and
-//! reading an output directory back.
+//! What the command's tests share: starting `spraysim`, pausing or killing it at a named
+//! point, and reading an output directory back.
 #![allow(dead_code)] // each test file uses its own part
 
 use std::io::{BufRead, BufReader};
@@ -37,6 +37,14 @@ pub fn paused_at(args: &[&str], cwd: &Path, point: &str) -> (Child, BufReader<Ch
     (child, err)
 }
 
+/// Starts `spraysim ARGS` in `cwd` and kills it (`kill -9`) once it has reached `point` (see
+/// [`paused_at`]): what a crash at that moment leaves behind.
+pub fn killed_at(args: &[&str], cwd: &Path, point: &str) {
+    let (mut child, _err) = paused_at(args, cwd, point);
+    child.kill().expect("kill -9");
+    child.wait().expect("wait");
+}
+
 /// Reads stderr until a line contains `what` (panics if the child ends first).
 pub fn wait_for(err: &mut BufReader<ChildStderr>, what: &str) {
     let mut line = String::new();
@@ -56,14 +64,9 @@ pub fn signal(child: &Child, name: &str) {
     assert!(status.success());
 }
 
-/// The names in `dir`, sorted.
+/// The names in `dir`, sorted, dot-files included.
 pub fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
+    spraysim::output::directory::entries(dir).expect("dir")
 }
 
 /// Whether `name` is the writer's bookkeeping rather than an output: the lock, the record of

@@ -144,6 +144,17 @@ pub fn run_hash(scenario: &str) -> String {
     paths::hash_bytes(scenario.as_bytes())
 }
 
+/// The names of everything in `dir`, sorted, dot-files and the writer's bookkeeping (names
+/// beginning with [`RESERVED_PREFIX`]) included: what a directory holds, to set beside the set
+/// its `metrics.json` lists. A name that is not UTF-8 is given with U+FFFD for its bad bytes.
+pub fn entries(dir: &Path) -> std::io::Result<Vec<String>> {
+    let mut names = std::fs::read_dir(dir)?
+        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<std::io::Result<Vec<String>>>()?;
+    names.sort();
+    Ok(names)
+}
+
 /// Creates `path` and the folders above it that are missing; returns those it created, the
 /// outermost first. A part of the path that is a file is named in the error.
 fn create_folders(path: &Path) -> Result<Vec<PathBuf>, OutputError> {

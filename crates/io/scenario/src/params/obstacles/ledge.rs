@@ -8,6 +8,7 @@ use super::ObstacleGeometry;
 use crate::params::v3;
 use crate::reader::{Check, Read, Section};
 use crate::scenario::Scenario;
+use crate::scenes::floor;
 use glam::DVec3;
 use serde::Serialize;
 use spraysim_engine::collision::{Aabb, Flight, Hit, Primitive, Shape, roots};
@@ -76,8 +77,8 @@ impl Primitive for Ledge {
     }
 }
 
-/// Shotcrete sprayed straight down from 1.5 m onto a floor, through a ledge 0.2 m on a side at
-/// `height` m, with no domain given.
+/// Shotcrete sprayed straight down from 1.5 m onto a 2 m × 2 m floor (a substrate), through a
+/// ledge with the keys `ledge` (TOML), with no domain given.
 fn scene(ledge: &str) -> String {
     format!(
         r#"
@@ -88,18 +89,12 @@ spawn_rate = 2000.0
 [nozzle]
 position = [0.0, 0.0, 1.5]
 axis = [0.0, 0.0, -1.0]
-[[target]]
-name = "floor"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-up = [1.0, 0.0, 0.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-[[obstacle]]
+{floor}[[obstacle]]
 name = "ledge"
 shape = "ledge"
 {ledge}
-"#
+"#,
+        floor = floor().substrate().at([0.0, 0.0, 0.0]).size(2.0, 2.0).resolution(32, 32),
     )
 }
 

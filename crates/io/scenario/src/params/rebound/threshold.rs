@@ -7,6 +7,7 @@
 use super::ReboundModel;
 use crate::reader::{Check, Read, Section};
 use crate::scenario::Scenario;
+use crate::scenes::wall;
 use serde::Serialize;
 use spraysim_engine::process::{ImpactSite, ReboundLaw};
 use std::sync::Arc;
@@ -48,8 +49,8 @@ impl ReboundLaw for Threshold {
     }
 }
 
-/// Painting sprayed square onto a wall, with `impact` as the process's impact table and a floor
-/// that keeps the process's.
+/// Painting sprayed square onto a wall, with `impact` as the process's impact table and a
+/// wall whose own impact table changes the threshold law's angle to 80°.
 fn scene(impact: &str) -> String {
     format!(
         r#"
@@ -66,16 +67,8 @@ spawn_rate = 2000.0
 [nozzle]
 position = [-0.3, 0.0, 1.0]
 axis = [1.0, 0.0, 0.0]
-[[target]]
-name = "wall"
-center = [0.0, 0.0, 1.0]
-normal = [-1.0, 0.0, 0.0]
-up = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-resolution = [32, 32]
-[target.impact]
-critical_angle = 80.0
-"#
+{wall}"#,
+        wall = wall().resolution(32, 32).with("[target.impact]\ncritical_angle = 80.0"),
     )
 }
 

@@ -1,21 +1,24 @@
-//! Scenes shared by the test suite, the checks of this crate and the benchmarks, so that none
-//! of them pastes its own copy: the default scene's wall and the floor in front of it as TOML
-//! `[[target]]` tables (changed where a scene needs: its size, cells, name), the nozzle square
-//! in front of the wall, the smallest runnable wall scene, and helpers to read a scene.
+//! Building blocks for scenes written in code and in tests, so that no program or test
+//! pastes its own copy of the same TOML: the default scene's wall and the floor in front of it
+//! as `[[target]]` tables (changed where a scene needs: its size, cells, name, role), the
+//! nozzle square in front of the wall, the smallest runnable wall scene, a bar obstacle, a
+//! one-triangle STL mesh, and helpers that read a fixed scene or its refusal.
 //!
 //! The frame is the default scene's: z up, the wall in the plane x = 0 facing −x, the floor at
-//! z = 0 in front of it.
+//! z = 0 in front of it. Every builder writes TOML text, which [`Scenario::from_toml`] reads
+//! as it reads a file, so a scene built here is checked and resolved like any other.
 //!
 //! ```
-//! use spraysim_validate::scenes::{NOZZLE_AT_WALL, floor, scenario, wall};
+//! use spraysim_scenario::scenes::{NOZZLE_AT_WALL, floor, scenario, wall};
 //!
 //! let text = format!("{NOZZLE_AT_WALL}{}{}", wall().resolution(64, 64), floor().resolution(40, 30));
 //! let sc = scenario(&text, "wall and floor");
 //! assert_eq!(sc.targets().len(), 2);
 //! ```
 
+use crate::reader::Choice;
+use crate::{Scenario, ScenarioError};
 use spraysim_engine::motion::Integrator;
-use spraysim_scenario::{Scenario, ScenarioError};
 use std::fmt;
 
 /// A rectangle `[[target]]` table, written as TOML by `Display`: `name`, `role`, `center`,
@@ -166,13 +169,10 @@ pub fn wall_scene(duration: f64, cells: u32) -> String {
     format!("[simulation]\nduration = {duration:?}\n{}", wall().resolution(cells, cells))
 }
 
-/// The word that selects `integrator` as `[simulation] integrator`.
+/// The word that selects `integrator` as `[simulation] integrator`, from the table the
+/// scenario reads it by.
 pub fn integrator_word(integrator: Integrator) -> &'static str {
-    match integrator {
-        Integrator::Euler => "euler",
-        Integrator::SemiImplicitEuler => "semi_implicit_euler",
-        Integrator::Exact => "exact",
-    }
+    integrator.name()
 }
 
 /// `text` read as a scenario named `origin`; panics naming the scene and the error, for the
@@ -189,6 +189,14 @@ pub fn refusal(result: Result<Scenario, ScenarioError>, what: &str) -> (String, 
         Err(ScenarioError::Invalid { key, message, .. }) => (key, message),
         Err(other) => panic!("{what}: refused without a key: {other}"),
     }
+}
+
+/// A cylinder `[[obstacle]]` table named `name`: a bar (rebar, a pipe) of `radius` m from
+/// `start` to `end` (m), as TOML that more tables may follow.
+pub fn bar(name: &str, start: [f64; 3], end: [f64; 3], radius: f64) -> String {
+    format!(
+        "[[obstacle]]\nname = \"{name}\"\nshape = \"cylinder\"\nstart = {start:?}\nend = {end:?}\nradius = {radius:?}\n"
+    )
 }
 
 /// An ASCII STL file of one triangle with these corners (m).
@@ -222,6 +230,18 @@ mod tests {
              up = [0.0, 0.0, 1.0]\nsize = [1.0, 0.5]\nresolution = [10, 5]\ncoating = 0.0001\nedges = \"held\"\n"
         );
         assert!(floor().substrate().to_string().lines().all(|l| !l.starts_with("role")));
+    }
+
+    #[test]
+    fn a_bar_is_a_cylinder_obstacle_that_a_scene_reads() {
+        let table = bar("rebar", [-0.05, -1.0, 1.0], [-0.05, 1.0, 1.0], 0.01);
+        assert_eq!(
+            table,
+            "[[obstacle]]\nname = \"rebar\"\nshape = \"cylinder\"\nstart = [-0.05, -1.0, 1.0]\n\
+             end = [-0.05, 1.0, 1.0]\nradius = 0.01\n"
+        );
+        let sc = scenario(&format!("{}{table}", wall_scene(0.01, 8)), "a bar");
+        assert_eq!(sc.obstacles().len(), 1);
     }
 
     #[test]
