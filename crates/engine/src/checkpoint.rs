@@ -10,10 +10,10 @@
 
 use glam::DVec3;
 
-/// Version of the state encoding; a state of another version is refused. Version 4: the same
-/// bytes as 3, but a particle's random streams are xoshiro256++ ones, so a version-3 state
-/// would continue with other random numbers than the run that saved it.
-pub const STATE_VERSION: u32 = 4;
+/// Version of the state encoding; a state of another version is refused. Version 5: particles
+/// are 48-byte records flown in layer epochs, volumes are booked in integer quanta, and the
+/// deposits of the epoch under way are kept with the cells they touched.
+pub const STATE_VERSION: u32 = 5;
 
 /// Why a saved state could not be restored.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -57,6 +57,9 @@ impl Enc {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
     pub fn u64(&mut self, x: u64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    pub fn u128(&mut self, x: u128) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
     pub fn usize(&mut self, x: usize) {
@@ -113,6 +116,9 @@ impl<'a> Dec<'a> {
     }
     pub fn u64(&mut self) -> Result<u64, StateError> {
         Ok(u64::from_le_bytes(self.take()?))
+    }
+    pub fn u128(&mut self) -> Result<u128, StateError> {
+        Ok(u128::from_le_bytes(self.take()?))
     }
     pub fn usize(&mut self) -> Result<usize, StateError> {
         usize::try_from(self.u64()?).map_err(|_| StateError::Truncated)

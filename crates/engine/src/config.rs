@@ -49,6 +49,10 @@ pub struct SimulationConfig {
     /// Keep a sample of the impacts (see [`crate::events::ImpactLog`]): the share kept, 0..1
     /// (0: none).
     pub impact_log: f64,
+    /// Steps per layer epoch (at least 1): particles see every deposit surface as it stood at
+    /// the start of the epoch, and deposits, erosion and the layer stages take effect at its
+    /// end (see [`crate::pipeline`]). One step couples particles and layers step by step.
+    pub layer_epoch: u32,
 }
 
 /// The sprayed material.
@@ -144,7 +148,30 @@ pub const MAX_COORD: f64 = 1e4;
 /// Most steps and most particles one run may take: step and particle indices are 32-bit.
 const MAX_STEPS: f64 = 4e9;
 
+/// Steps per layer epoch of [`SimulationConfig::example_wall`] (Δt = 1 ms): 5 ms, the
+/// scenarios' default `layer_epoch` (see docs/validation.md for how the figures move with it).
+pub const DEFAULT_LAYER_EPOCH_STEPS: u32 = 5;
+
+/// A nozzle particle's volume is this many volume quanta (see
+/// [`SimulationConfig::volume_quantum`]).
+pub const QUANTA_PER_PARTICLE: u64 = 1 << 24;
+
 impl SimulationConfig {
+    /// The run's volume quantum, m³: a nozzle particle's volume over [`QUANTA_PER_PARTICLE`].
+    /// The run books every volume (tallies, deposits before they join a layer) in whole quanta,
+    /// whose sums are exact whatever their order: a volume is rounded to it once, to 2⁻²⁵ of a
+    /// nozzle particle at most.
+    pub fn volume_quantum(&self) -> f64 {
+        self.emitter.particle_volume / QUANTA_PER_PARTICLE as f64
+    }
+
+    /// `volume` (m³) in whole quanta (see [`SimulationConfig::volume_quantum`]), rounded to
+    /// the nearest; negative or non-finite volumes count as none.
+    pub fn quanta_of(&self, volume: f64) -> u64 {
+        let q = volume / self.volume_quantum();
+        if q.is_finite() && q > 0.0 { q.round() as u64 } else { 0 }
+    }
+
     /// Number of whole steps covering the duration (the last may end past it); the tolerance
     /// absorbs rounding of duration / dt.
     pub fn total_steps(&self) -> u64 {
@@ -180,6 +207,15 @@ impl SimulationConfig {
             && self.domain.min.cmplt(self.domain.max).all())
         {
             return bad("domain", "must be a finite box with volume".into());
+        }
+        if !(e.particle_volume.is_finite() && e.particle_volume > 0.0) {
+            return bad(
+                "emitter.particle_volume",
+                format!("must be a positive volume, got {}", e.particle_volume),
+            );
+        }
+        if self.layer_epoch == 0 {
+            return bad("layer_epoch", "must be at least one step".into());
         }
         if self.max_impacts_per_step == 0 {
             return bad("max_impacts_per_step", "must be at least 1".into());
@@ -241,6 +277,7 @@ impl SimulationConfig {
             sag_threshold: 0.0,
             window: PathWindow { standoff: [1.0, 2.0], max_angle: 20.0, speed: [0.0, 1.0] },
             impact_log: 0.0,
+            layer_epoch: DEFAULT_LAYER_EPOCH_STEPS,
         }
     }
 }

@@ -5,7 +5,7 @@ use crate::deposit::DepositSurface;
 use crate::events::FailureEvent;
 use crate::particles::flags;
 use crate::pipeline::Simulation;
-use crate::tally::{Amount, Gauge};
+use crate::tally::{Amount, Gauge, Quanta, Tallied};
 use crate::world::{Role, Target};
 
 /// Minimum, mean and maximum of a path quantity over the spraying time, and the share of that
@@ -59,8 +59,8 @@ pub struct FailureMetrics {
 }
 
 /// Where the emitted volume is now, m³, from the deposit maps (Σ thickness × cell area) and
-/// the fates: `residual` is what the other terms miss (rounding of single-precision particle
-/// volumes only), so a map that lost material shows here.
+/// the fates: `residual` is what the other terms miss (rounding only: the fates are exact sums
+/// of whole quanta, the maps sums of thicknesses), so a map that lost material shows here.
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VolumeBalance {
@@ -308,9 +308,11 @@ fn ratio(a: f64, b: f64) -> Option<f64> {
     (b > 0.0).then(|| a / b)
 }
 
-/// Volume in place in `t`'s layer: what adhered, less what left it again, m³.
-fn in_place(t: &Target) -> f64 {
-    (t.stuck.volume - t.loose.volume - t.detached.volume).max(0.0)
+/// Volume in place in `t`'s layer: what adhered, less what left it again, m³, with the run's
+/// volume quantum `q` (m³).
+fn in_place(t: &Target, q: f64) -> f64 {
+    let b = &t.tally;
+    (b.stuck.volume(q) - b.loose.volume(q) - b.detached.volume(q)).max(0.0)
 }
 
 impl Gauge {
@@ -328,49 +330,56 @@ impl Simulation {
     /// The metrics as of now.
     pub fn metrics(&self) -> Metrics {
         let (targets, obstacles, tally) = (self.targets(), self.obstacles(), self.tally());
-        let (mut in_flight, mut released_in_flight) = (Amount::default(), Amount::default());
+        let q = self.config().volume_quantum();
+        let (mut in_flight, mut released_in_flight) = (Tallied::default(), Tallied::default());
         let swarm = self.swarm();
-        for (i, f) in swarm.flags.iter().enumerate() {
-            if f & flags::ALIVE != 0 {
-                let a = if f & flags::RELEASED != 0 { &mut released_in_flight } else { &mut in_flight };
-                a.add(f64::from(swarm.volume(i)));
+        for (i, p) in swarm.particles.iter().enumerate() {
+            if p.is_alive() {
+                let a =
+                    if p.flags() & flags::RELEASED != 0 { &mut released_in_flight } else { &mut in_flight };
+                a.add(swarm.volume(i));
             }
         }
         let fates = Fates {
-            stuck_on_targets: targets.iter().map(|t| t.stuck + t.stuck_back).sum(),
-            stuck_on_obstacles: obstacles.iter().map(|o| o.stuck).sum(),
-            left_domain: tally.left_domain,
-            expired: tally.expired,
-            in_flight,
+            stuck_on_targets: targets
+                .iter()
+                .map(|t| t.tally.stuck + t.tally.stuck_back)
+                .sum::<Tallied>()
+                .amount(q),
+            stuck_on_obstacles: obstacles.iter().map(|o| o.tally.stuck).sum::<Tallied>().amount(q),
+            left_domain: tally.left_domain.amount(q),
+            expired: tally.expired.amount(q),
+            in_flight: in_flight.amount(q),
         };
         let released_fates = Fates {
-            stuck_on_targets: targets.iter().map(|t| t.received).sum(),
-            stuck_on_obstacles: obstacles.iter().map(|o| o.received).sum(),
-            left_domain: tally.released_left,
-            expired: tally.released_expired,
-            in_flight: released_in_flight,
+            stuck_on_targets: targets.iter().map(|t| t.tally.received).sum::<Tallied>().amount(q),
+            stuck_on_obstacles: obstacles.iter().map(|o| o.tally.received).sum::<Tallied>().amount(q),
+            left_domain: tally.released_left.amount(q),
+            expired: tally.released_expired.amount(q),
+            in_flight: released_in_flight.amount(q),
         };
         let on_substrate: f64 =
             targets.iter().filter(|t| t.role == Role::Substrate).map(|t| t.surface.volume()).sum();
-        let balance = VolumeBalance::of(tally.emitted.volume, targets, &fates, &released_fates);
+        let emitted = tally.emitted.amount(q);
+        let balance = VolumeBalance::of(emitted.volume, targets, q, &fates, &released_fates);
         let density = self.config().material.density;
+        let sub = || targets.iter().filter(|t| t.role == Role::Substrate);
+        let delivered: f64 = sub().map(|t| t.tally.delivered.volume(q)).sum();
         Metrics {
             time: self.time(),
             steps: self.steps_done(),
-            emitted: tally.emitted,
-            emitted_mass: tally.emitted.volume * density,
+            emitted,
+            emitted_mass: emitted.volume * density,
             rebound_ratio: {
-                let sub = || targets.iter().filter(|t| t.role == Role::Substrate);
-                let delivered: f64 = sub().map(|t| t.delivered.volume).sum();
-                let placed: f64 = sub().map(in_place).sum();
+                let placed: f64 = sub().map(|t| in_place(t, q)).sum();
                 ratio(delivered - placed.min(delivered), delivered)
             },
-            bounce_ratio: ratio(tally.substrate_first_rebounds.volume, tally.substrate_first_impacts.volume),
-            trapped_ratio: {
-                let sub = || targets.iter().filter(|t| t.role == Role::Substrate);
-                ratio(sub().map(|t| t.trapped.volume).sum(), sub().map(|t| t.delivered.volume).sum())
-            },
-            transfer_efficiency: ratio(on_substrate, tally.emitted.volume),
+            bounce_ratio: ratio(
+                tally.substrate_first_rebounds.volume(q),
+                tally.substrate_first_impacts.volume(q),
+            ),
+            trapped_ratio: ratio(sub().map(|t| t.tally.trapped.volume(q)).sum(), delivered),
+            transfer_efficiency: ratio(on_substrate, emitted.volume),
             fates,
             targets: targets
                 .iter()
@@ -381,16 +390,16 @@ impl Simulation {
                 .iter()
                 .map(|o| ObstacleMetrics {
                     name: o.name.clone(),
-                    hits: o.hits,
-                    stuck: o.stuck,
-                    received: o.received,
+                    hits: o.tally.hits,
+                    stuck: o.tally.stuck.amount(q),
+                    received: o.tally.received.amount(q),
                 })
                 .collect(),
             failures: FailureMetrics {
                 events: self.failures().to_vec(),
-                released: tally.released,
-                dripped: tally.dripped,
-                ran_off: tally.ran_off,
+                released: tally.released.amount(q),
+                dripped: tally.dripped.amount(q),
+                ran_off: tally.ran_off.amount(q),
                 released_fates,
             },
             volume_balance: balance,
@@ -433,23 +442,25 @@ impl Simulation {
             share(&|k| risk[k] > 0)
         });
         let hits: f64 = s.hits().iter().map(|&h| f64::from(h)).sum();
+        let (b, q) = (&t.tally, c.volume_quantum());
+        let delivered = b.delivered.volume(q);
         TargetMetrics {
             name: t.name.clone(),
             role: t.role,
-            hits: t.hits,
-            stuck: t.stuck,
-            loose: t.loose,
-            trapped: t.trapped,
-            delivered: t.delivered,
-            in_place: in_place(t),
+            hits: b.hits,
+            stuck: b.stuck.amount(q),
+            loose: b.loose.amount(q),
+            trapped: b.trapped.amount(q),
+            delivered: b.delivered.amount(q),
+            in_place: in_place(t, q),
             rebound_ratio: (t.role == Role::Substrate)
-                .then(|| ratio(t.delivered.volume - in_place(t).min(t.delivered.volume), t.delivered.volume))
+                .then(|| ratio(delivered - in_place(t, q).min(delivered), delivered))
                 .flatten(),
-            stuck_on_back: t.stuck_back,
+            stuck_on_back: b.stuck_back.amount(q),
             layer_volume: t.surface.volume(),
             thickness: ThicknessStats::of(s, c.material.coverage_threshold, tc.margin, tc.tolerance),
-            received: t.received,
-            detached: t.detached,
+            received: b.received.amount(q),
+            detached: b.detached.amount(q),
             at_risk_fraction: at_risk / area,
             failed_fraction: failed / area,
             hits_per_cm2: hits / (area * 1e4),
@@ -476,12 +487,14 @@ impl Simulation {
 }
 
 impl VolumeBalance {
-    /// Where `emitted` (m³) is now, from the deposits and the fates.
-    fn of(emitted: f64, targets: &[Target], fates: &Fates, released: &Fates) -> VolumeBalance {
+    /// Where `emitted` (m³) is now, from the deposits and the fates, with the run's volume
+    /// quantum `q` (m³).
+    fn of(emitted: f64, targets: &[Target], q: f64, fates: &Fates, released: &Fates) -> VolumeBalance {
+        let backs: Quanta = targets.iter().map(|t| t.tally.stuck_back.quanta + t.tally.received_back).sum();
         let b = VolumeBalance {
             emitted,
             in_maps: targets.iter().map(|t| t.surface.volume()).sum(),
-            on_backs: targets.iter().map(|t| t.stuck_back.volume + t.received_back).sum(),
+            on_backs: backs as f64 * q,
             on_obstacles: fates.stuck_on_obstacles.volume + released.stuck_on_obstacles.volume,
             left_domain: fates.left_domain.volume + released.left_domain.volume,
             expired: fates.expired.volume + released.expired.volume,

@@ -1,7 +1,7 @@
 //! Running totals the pipeline keeps as it goes: amounts of particles and volume, and the
 //! statistics of the nozzle's path.
 
-/// A number of particles and the material volume they carry.
+/// A number of particles and the material volume they carry, m³: what the metrics report.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Amount {
@@ -9,15 +9,6 @@ pub struct Amount {
     pub count: u64,
     /// Volume, m³.
     pub volume: f64,
-}
-
-impl Amount {
-    /// Adds one particle of `volume` (m³).
-    #[inline]
-    pub fn add(&mut self, volume: f64) {
-        self.count += 1;
-        self.volume += volume;
-    }
 }
 
 impl std::ops::Add for Amount {
@@ -33,39 +24,108 @@ impl std::iter::Sum for Amount {
     }
 }
 
-/// Running totals over the whole run.
-#[derive(Clone, Debug, Default)]
+/// Volume counted in whole quanta of a run's volume quantum (see
+/// [`crate::SimulationConfig::volume_quantum`]): sums of quanta are exact, so totals gathered
+/// by several threads in any order, and merged in any order, come out the same to the bit.
+pub type Quanta = u128;
+
+/// A number of particles and the volume they carry, in quanta: what the run books as it goes
+/// (in flight, by any number of threads), exact and independent of the order of its additions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Tallied {
+    /// How many particles.
+    pub count: u64,
+    /// Their volume, in quanta of the run's volume quantum.
+    pub quanta: Quanta,
+}
+
+impl Tallied {
+    /// Adds one particle of `quanta` volume.
+    #[inline]
+    pub fn add(&mut self, quanta: u64) {
+        self.count += 1;
+        self.quanta += Quanta::from(quanta);
+    }
+
+    /// This tally as particles and m³, with the run's volume quantum `q` (m³).
+    pub fn amount(&self, q: f64) -> Amount {
+        Amount { count: self.count, volume: self.quanta as f64 * q }
+    }
+
+    /// The volume, m³, with the run's volume quantum `q` (m³).
+    pub fn volume(&self, q: f64) -> f64 {
+        self.quanta as f64 * q
+    }
+}
+
+impl std::ops::AddAssign for Tallied {
+    fn add_assign(&mut self, o: Tallied) {
+        self.count += o.count;
+        self.quanta += o.quanta;
+    }
+}
+
+impl std::ops::Add for Tallied {
+    type Output = Tallied;
+    fn add(mut self, o: Tallied) -> Tallied {
+        self += o;
+        self
+    }
+}
+
+impl std::iter::Sum for Tallied {
+    fn sum<I: Iterator<Item = Tallied>>(iter: I) -> Tallied {
+        iter.fold(Tallied::default(), |a, b| a + b)
+    }
+}
+
+/// Running totals over the whole run, in quanta (see [`Tallied`]).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Tally {
     /// Particles emitted.
-    pub emitted: Amount,
+    pub emitted: Tallied,
     /// Particles that left the domain box.
-    pub left_domain: Amount,
+    pub left_domain: Tallied,
     /// Particles retired past the maximum lifetime.
-    pub expired: Amount,
+    pub expired: Tallied,
     /// Particles whose first substrate impact happened.
-    pub substrate_first_impacts: Amount,
+    pub substrate_first_impacts: Tallied,
     /// Of those, the ones that rebounded from it.
-    pub substrate_first_rebounds: Amount,
+    pub substrate_first_rebounds: Tallied,
     /// Particles released by cohesive failures, drips and slumps.
-    pub released: Amount,
+    pub released: Tallied,
     /// Released particles that left the domain.
-    pub released_left: Amount,
+    pub released_left: Tallied,
     /// Released particles that expired.
-    pub released_expired: Amount,
+    pub released_expired: Tallied,
     /// Of the released material, what dripped off sagging films.
-    pub dripped: Amount,
+    pub dripped: Tallied,
     /// Of the released material, what slumped over the edges of targets.
-    pub ran_off: Amount,
+    pub ran_off: Tallied,
 }
 
 impl Tally {
-    /// Counts a particle's first impact on the front of a substrate target, carrying `volume`
-    /// (m³), and, unless it `stuck`, its rebound from there.
-    pub(crate) fn first_substrate_impact(&mut self, volume: f64, stuck: bool) {
-        self.substrate_first_impacts.add(volume);
+    /// Counts a particle's first impact on the front of a substrate target, carrying `quanta`
+    /// of volume, and, unless it `stuck`, its rebound from there.
+    pub(crate) fn first_substrate_impact(&mut self, quanta: u64, stuck: bool) {
+        self.substrate_first_impacts.add(quanta);
         if !stuck {
-            self.substrate_first_rebounds.add(volume);
+            self.substrate_first_rebounds.add(quanta);
         }
+    }
+
+    /// Adds `o`'s totals to these.
+    pub(crate) fn merge(&mut self, o: &Tally) {
+        self.emitted += o.emitted;
+        self.left_domain += o.left_domain;
+        self.expired += o.expired;
+        self.substrate_first_impacts += o.substrate_first_impacts;
+        self.substrate_first_rebounds += o.substrate_first_rebounds;
+        self.released += o.released;
+        self.released_left += o.released_left;
+        self.released_expired += o.released_expired;
+        self.dripped += o.dripped;
+        self.ran_off += o.ran_off;
     }
 }
 

@@ -1,8 +1,8 @@
 //! What has happened on each target and obstacle: the mutable data sets the pipeline works on.
 
 use crate::collision::SurfaceId;
-use crate::deposit::{DepositSurface, Surface};
-use crate::tally::Amount;
+use crate::deposit::{DepositSurface, Pending, Surface, WEAR_QUANTUM};
+use crate::tally::{Quanta, Tallied};
 
 /// Role of a target.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -30,33 +30,89 @@ pub struct Target {
     pub surface_id: SurfaceId,
     /// How many pieces the surface has in the scene.
     pub pieces: u32,
-    /// Impacts on either side, stuck or rebounded.
-    pub hits: u64,
-    /// Particles stuck on the front (all in the deposit), adhering or loose.
-    pub stuck: Amount,
-    /// Of those, the rebounds that came to rest loose instead of adhering: material on the
-    /// surface but not in place in the layer.
-    pub loose: Amount,
-    /// Of those, the rebounds that adhered where they landed again: in the layer, but as
-    /// trapped rebound (a defect on floors, ACI 506R), not as sprayed material.
-    pub trapped: Amount,
-    /// Particles whose first impact on a substrate was on this target's front (the material
-    /// delivered to it).
-    pub delivered: Amount,
-    /// Particles stuck on the back, which collects no deposit.
-    pub stuck_back: Amount,
-    /// Material released by cohesive failures that landed here (front or back).
-    pub received: Amount,
-    /// Of that, the volume on the back, m³.
-    pub received_back: f64,
-    /// Material that failed and fell off: released particles and their volume.
-    pub detached: Amount,
+    /// What has struck it, in quanta.
+    pub tally: TargetTally,
     /// Per cell: 0 sound, 1 over-loaded at the last analysis, 2 failed at some time.
     pub failure_mask: Vec<u8>,
     /// Whether the last analysis left cells over-loaded but holding (1 in `failure_mask`).
     pub at_risk: bool,
     /// Erosion maps, when an erosion law applies to this target.
     pub erosion: Option<ErosionMaps>,
+    /// What the particles of the epoch under way have left on it, to take effect at the
+    /// epoch's end (see [`crate::deposit::Pending`]).
+    pub pending: Pending,
+}
+
+/// What has struck a target, in quanta of the run's volume quantum (see [`Tallied`]):
+/// gathered by any number of threads and added up exactly.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TargetTally {
+    /// Impacts on either side, stuck or rebounded.
+    pub hits: u64,
+    /// Particles stuck on the front (all in the deposit), adhering or loose.
+    pub stuck: Tallied,
+    /// Of those, the rebounds that came to rest loose instead of adhering: material on the
+    /// surface but not in place in the layer.
+    pub loose: Tallied,
+    /// Of those, the rebounds that adhered where they landed again: in the layer, but as
+    /// trapped rebound (a defect on floors, ACI 506R), not as sprayed material.
+    pub trapped: Tallied,
+    /// Particles whose first impact on a substrate was on this target's front (the material
+    /// delivered to it).
+    pub delivered: Tallied,
+    /// Particles stuck on the back, which collects no deposit.
+    pub stuck_back: Tallied,
+    /// Material released by cohesive failures that landed here (front or back).
+    pub received: Tallied,
+    /// Of that, the volume on the back, quanta.
+    pub received_back: Quanta,
+    /// Material that failed and fell off: released particles and their volume.
+    pub detached: Tallied,
+}
+
+impl std::ops::AddAssign for TargetTally {
+    fn add_assign(&mut self, o: TargetTally) {
+        self.hits += o.hits;
+        self.stuck += o.stuck;
+        self.loose += o.loose;
+        self.trapped += o.trapped;
+        self.delivered += o.delivered;
+        self.stuck_back += o.stuck_back;
+        self.received += o.received;
+        self.received_back += o.received_back;
+        self.detached += o.detached;
+    }
+}
+
+impl TargetTally {
+    /// Books one impact: counts it; a particle that stuck counts as released material
+    /// received (front or back), as stuck on the back, or as sprayed material stuck on the
+    /// front (and of that, as loose or as trapped rebound); a first impact on a substrate
+    /// counts as material delivered.
+    pub(crate) fn book(&mut self, impact: &Impact) {
+        self.hits += 1;
+        let q = impact.quanta;
+        if impact.stuck {
+            if impact.released {
+                self.received.add(q);
+                if impact.back {
+                    self.received_back += Quanta::from(q);
+                }
+            } else if impact.back {
+                self.stuck_back.add(q);
+            } else {
+                self.stuck.add(q);
+                if impact.loose {
+                    self.loose.add(q);
+                } else if impact.rebound {
+                    self.trapped.add(q);
+                }
+            }
+        }
+        if impact.first_substrate {
+            self.delivered.add(q);
+        }
+    }
 }
 
 /// Per-cell erosion of a target.
@@ -92,16 +148,12 @@ impl ErosionMaps {
     }
 }
 
-/// One impact on a target or an obstacle, as the apply stage books it: where it struck, the
-/// particle's volume, and what became of the particle.
+/// One impact on a target or an obstacle, as it is booked: the particle's volume and what
+/// became of the particle.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Impact {
-    /// The cell struck (on a target; an obstacle has none).
-    pub cell: u32,
-    /// The particle's volume, m³.
-    pub volume: f64,
-    /// Volumes of coating and of substrate the impact would wear away, m³.
-    pub eroded: (f64, f64),
+    /// The particle's volume, quanta.
+    pub quanta: u64,
     /// The impact was on the back of a target, which collects no deposit.
     pub back: bool,
     /// The particle stuck (adhering or loose) instead of rebounding.
@@ -117,53 +169,27 @@ pub(crate) struct Impact {
 }
 
 impl Target {
-    /// Books one impact on this target: counts it; on the front, counts it in its cell and
-    /// wears the cell (under an erosion law); a particle that stuck is [received](Self::receive);
-    /// a first impact on a substrate counts as material delivered.
-    pub(crate) fn record_impact(&mut self, impact: &Impact) {
-        self.hits += 1;
-        if !impact.back {
-            self.surface.add_hit(impact.cell);
-            self.wear(impact.cell, impact.eroded);
-        }
-        if impact.stuck {
-            self.receive(impact);
-        }
-        if impact.first_substrate {
-            self.delivered.add(impact.volume);
-        }
-    }
-
-    /// Wears `cell` by an impact that would remove `coat` m³ of coating or `sub` m³ of
-    /// substrate, when an erosion law applies to this target.
-    fn wear(&mut self, cell: u32, (coat, sub): (f64, f64)) {
-        if let Some(e) = &mut self.erosion {
-            let area = self.surface.cell_area(cell);
-            e.wear(cell as usize, area, coat, sub);
-        }
-    }
-
-    /// Takes a particle that stuck: on the front its volume joins the deposit; it counts as
-    /// released material received (front or back), as stuck on the back, or as sprayed
-    /// material stuck on the front (and of that, as loose or as trapped rebound).
-    fn receive(&mut self, impact: &Impact) {
-        let volume = impact.volume;
-        if !impact.back {
-            self.surface.deposit(impact.cell, volume);
-        }
-        if impact.released {
-            self.received.add(volume);
-            if impact.back {
-                self.received_back += volume;
+    /// Applies what the epoch's particles left on this target (its [`Pending`] counters) to
+    /// its layer, its impact counts and its erosion maps: each cell of `touched` once, with
+    /// the run's volume quantum `q` (m³). An epoch's wear on a cell is applied as one impact
+    /// of the summed volumes: the coating first, the substrate with the share of the wear the
+    /// coating left did not absorb.
+    pub(crate) fn settle(&mut self, touched: &[u32], q: f64) {
+        for &cell in touched {
+            let g = self.pending.take(cell);
+            if g.hits > 0 {
+                self.surface.add_hits(cell, g.hits);
             }
-        } else if impact.back {
-            self.stuck_back.add(volume);
-        } else {
-            self.stuck.add(volume);
-            if impact.loose {
-                self.loose.add(volume);
-            } else if impact.rebound {
-                self.trapped.add(volume);
+            if g.quanta > 0 {
+                let area = self.surface.cell_area(cell);
+                self.surface.add_thickness(cell, g.quanta as f64 * q / area);
+            }
+            if let Some(e) = &mut self.erosion
+                && g.wear != [0, 0]
+            {
+                let area = self.surface.cell_area(cell);
+                let [coat, sub] = g.wear.map(|w| w as f64 * WEAR_QUANTUM);
+                e.wear(cell as usize, area, coat, sub);
             }
         }
     }
@@ -192,21 +218,36 @@ impl Target {
 pub struct Obstacle {
     /// Name the scenario gives it (unique among targets and obstacles), for outputs.
     pub name: String,
+    /// What has struck it, in quanta.
+    pub tally: ObstacleTally,
+}
+
+/// What has struck an obstacle, in quanta of the run's volume quantum (see [`Tallied`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ObstacleTally {
     /// Impacts, stuck or rebounded.
     pub hits: u64,
     /// Particles stuck on it.
-    pub stuck: Amount,
+    pub stuck: Tallied,
     /// Released material that landed on it.
-    pub received: Amount,
+    pub received: Tallied,
 }
 
-impl Obstacle {
-    /// Books one impact on this obstacle: counts it, and a particle that stuck as released
-    /// material received or as stuck.
-    pub(crate) fn record_impact(&mut self, impact: &Impact) {
+impl std::ops::AddAssign for ObstacleTally {
+    fn add_assign(&mut self, o: ObstacleTally) {
+        self.hits += o.hits;
+        self.stuck += o.stuck;
+        self.received += o.received;
+    }
+}
+
+impl ObstacleTally {
+    /// Books one impact: counts it, and a particle that stuck as released material received or
+    /// as stuck.
+    pub(crate) fn book(&mut self, impact: &Impact) {
         self.hits += 1;
         if impact.stuck {
-            if impact.released { &mut self.received } else { &mut self.stuck }.add(impact.volume);
+            if impact.released { &mut self.received } else { &mut self.stuck }.add(impact.quanta);
         }
     }
 }

@@ -238,7 +238,7 @@ fn a_snapshot_continues_exactly_as_the_original() {
     let (a, b) = (&sim.targets()[0].surface, &branch.targets()[0].surface);
     assert_eq!(a.thickness(), b.thickness());
     assert_eq!(sim.metrics().fates.in_flight, branch.metrics().fates.in_flight);
-    assert_eq!(sim.swarm().pos, branch.swarm().pos);
+    assert_eq!(sim.swarm(), branch.swarm());
 }
 
 #[test]

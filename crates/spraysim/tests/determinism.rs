@@ -104,24 +104,35 @@ fn the_exact_integrator_is_deterministic_across_thread_counts() {
     assert_eq!(one, two);
 }
 
-/// The free-flight kernel gives the same bytes on every instruction set it runs on, for every
-/// integrator: lanes only change how fast the arithmetic is done, never its rounding.
+/// A run stepped one step at a time gives the bytes of one advanced an epoch at a time, and of
+/// one whose particles never coast (every step searched in full), for every integrator: how an
+/// epoch is split into calls, and the proofs that let a particle skip the search, never change
+/// a result.
 #[test]
-fn outputs_are_bit_identical_on_every_instruction_set() {
-    use spraysim::motion::Lanes;
+fn stepping_advancing_and_coasting_all_give_the_same_bytes() {
     let tmp = tempfile::tempdir().expect("tempdir");
     for integrator in ["euler", "semi_implicit_euler", "exact"] {
         let sc = busy_scene(8).with("simulation.integrator", integrator).expect("valid");
-        let run = |lanes: Lanes| {
+        let run = |name: &str, go: &dyn Fn(&mut spraysim::Simulation)| {
             let mut sim = sc.build().expect("valid");
             sim.set_threads(2).expect("pool");
-            sim.set_lanes(lanes);
-            sim.run(|_| {});
-            written(&sim, &sc, &tmp.path().join(format!("{integrator}-{lanes:?}")))
+            go(&mut sim);
+            written(&sim, &sc, &tmp.path().join(format!("{integrator}-{name}")))
         };
-        let (portable, widest) = (run(Lanes::Portable), run(Lanes::Avx2));
-        for (name, bytes) in &portable {
-            assert!(bytes == &widest[name], "{integrator}: {name} differs between the instruction sets");
+        let advanced = run("advanced", &|sim| sim.run(|_| {}));
+        let stepped = run("stepped", &|sim| {
+            while !sim.is_finished() {
+                sim.step();
+            }
+        });
+        let searched = run("searched", &|sim| {
+            sim.set_coasting(false);
+            sim.advance(3);
+            sim.advance(sim.total_steps() - 3);
+        });
+        for (name, bytes) in &advanced {
+            assert!(bytes == &stepped[name], "{integrator}: {name} differs between stepping and advancing");
+            assert!(bytes == &searched[name], "{integrator}: {name} differs with coasting off");
         }
     }
 }
@@ -152,21 +163,26 @@ fn a_restarted_simulation_reproduces_a_new_one() {
     }
 }
 
-/// A checkpoint written before the particles' random streams became xoshiro256++ ones (state
-/// version 3, the same bytes) is refused: restored, it would continue with other random numbers
-/// than the run that saved it, and no longer match that run.
+/// A checkpoint of an earlier state version is refused: restored, it would continue otherwise
+/// than the run that saved it (version 3 drew from other random streams; version 4 stepped
+/// particles one step at a time against layers that changed every step).
 #[test]
-fn a_checkpoint_of_the_earlier_random_streams_is_refused() {
+fn a_checkpoint_of_an_earlier_state_version_is_refused() {
     let sc = busy_scene(3);
     let mut sim = sc.build().expect("valid");
     for _ in 0..20 {
         sim.step();
     }
-    let mut saved = sim.save_state();
-    saved[..4].copy_from_slice(&3u32.to_le_bytes());
-    let mut fresh = sc.build().expect("valid");
-    let before = fresh.state_debug();
-    let refused = fresh.restore_state(&saved).expect_err("a version-3 state is refused");
-    assert_eq!(refused.to_string(), "the saved state has version 3, this program reads version 4");
-    assert_eq!(fresh.state_debug(), before);
+    for version in [3u32, 4] {
+        let mut saved = sim.save_state();
+        saved[..4].copy_from_slice(&version.to_le_bytes());
+        let mut fresh = sc.build().expect("valid");
+        let before = fresh.state_debug();
+        let refused = fresh.restore_state(&saved).expect_err("an earlier state is refused");
+        assert_eq!(
+            refused.to_string(),
+            format!("the saved state has version {version}, this program reads version 5")
+        );
+        assert_eq!(fresh.state_debug(), before);
+    }
 }

@@ -73,12 +73,8 @@ fn run(path: &Path) -> (Simulation, Metrics) {
     });
     while !sim.is_finished() {
         sim.step();
-        let sw = sim.swarm();
-        for (p, f) in sw.pos.iter().zip(&sw.flags) {
-            assert!(
-                f & spraysim::particles::flags::ALIVE == 0 || !block.contains(*p),
-                "a grain inside the mesh at {p}"
-            );
+        for (p, _, _) in sim.in_flight() {
+            assert!(!block.contains(p), "a grain inside the mesh at {p}");
         }
     }
     let m = sim.metrics();

@@ -28,9 +28,9 @@ fn assert_conserved(m: &Metrics) {
 
 /// Σ thickness × cell area equals the stuck volume on every target.
 fn assert_layer_volumes(sim: &Simulation) {
-    for t in sim.targets() {
-        let rel = (t.surface.volume() - t.stuck.volume).abs() / t.stuck.volume.max(1e-300);
-        assert!(rel < 1e-6, "{}: layer {} m³ vs stuck {} m³", t.name, t.surface.volume(), t.stuck.volume);
+    for (t, m) in sim.targets().iter().zip(&sim.metrics().targets) {
+        let rel = (t.surface.volume() - m.stuck.volume).abs() / m.stuck.volume.max(1e-300);
+        assert!(rel < 1e-6, "{}: layer {} m³ vs stuck {} m³", t.name, t.surface.volume(), m.stuck.volume);
     }
 }
 
@@ -227,18 +227,10 @@ fn particles_never_end_a_step_inside_a_solid() {
     let mut checked = 0usize;
     while !sim.is_finished() {
         sim.step();
-        let sw = sim.swarm();
-        for (i, p) in sw.pos.iter().enumerate() {
-            if sw.flags[i] & spraysim::particles::flags::ALIVE == 0 {
-                continue;
-            }
+        for (p, _, _) in sim.in_flight() {
             checked += 1;
             for s in sim.scene().surfaces() {
-                assert!(
-                    !spraysim::collision::Primitive::contains(&s.shape, *p),
-                    "inside {:?} at {p}",
-                    s.kind
-                );
+                assert!(!spraysim::collision::Primitive::contains(&s.shape, p), "inside {:?} at {p}", s.kind);
             }
         }
     }

@@ -259,9 +259,11 @@ pub struct BenchArgs {
     /// Simulated seconds per run.
     #[arg(long, default_value_t = 0.5)]
     pub duration: f64,
-    /// Worker threads for the runs that do not vary it; 0 uses every core.
-    #[arg(short = 'j', long, default_value_t = 0)]
-    pub threads: usize,
+    /// Worker thread counts, comma-separated (0: every core). The runs that do not vary it use
+    /// the largest; with several (`--threads 1,2,4,8,16`) the reference scene and the 60 s
+    /// raster are timed on each, in a scaling table.
+    #[arg(short = 'j', long, value_delimiter = ',', default_value = "0")]
+    pub threads: Vec<usize>,
     /// Timed runs per table row (after one untimed warm-up); the median is reported.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeats: u32,

@@ -115,6 +115,11 @@ impl CommitHooks for RunControl {
     }
 }
 
+/// The next step after `step` at which [`PAUSE_VARIABLE`] names a pause (`step:N`), if any.
+pub fn next_pause(step: u64) -> Option<u64> {
+    pause_points().steps.iter().copied().filter(|&s| s > step).min()
+}
+
 /// After step `step` (counting from 1): pauses there if [`PAUSE_VARIABLE`] names `step:N`.
 pub fn after_step(step: u64) {
     if pause_points().steps.contains(&step) {

@@ -36,6 +36,11 @@ pub fn recorder(scenario: &Scenario) -> Result<Recorder> {
 
 #[cfg(not(feature = "render"))]
 impl Recorder {
+    /// Steps from `sim`'s present to the one at whose end the next view is due: none.
+    pub fn steps_to_next(&self, _sim: &Simulation) -> Option<u64> {
+        None
+    }
+
     /// Draws nothing: no view is asked for.
     pub fn observe(&mut self, _sim: &Simulation) -> Result<()> {
         Ok(())
@@ -52,6 +57,11 @@ impl Recorder {
 
 #[cfg(feature = "render")]
 impl Recorder {
+    /// Steps from `sim`'s present to the one at whose end the next view is due, if one is.
+    pub fn steps_to_next(&self, sim: &Simulation) -> Option<u64> {
+        self.0.as_ref()?.steps_to_next(sim)
+    }
+
     /// Renders what is due at `sim`'s time.
     pub fn observe(&mut self, sim: &Simulation) -> Result<()> {
         if let Some(r) = &mut self.0 {

@@ -257,11 +257,11 @@ fn a_checkpoint_with_a_nan_position_is_refused_not_looped_on() {
     killed_at(&args, tmp.path(), "step:50");
     let out = tmp.path().join("out");
     let mut ck: Checkpoint = read_checkpoint(&out).expect("a checkpoint");
-    // The state begins with its version (4 bytes), the step (8), the nozzle's particle volume
-    // (4), the released particles (a count of 8, none here) and the positions' count (8): the
-    // first particle's x follows.
-    assert_eq!(u64::from_le_bytes(ck.state[16..24].try_into().expect("8 bytes")), 0, "no released material");
-    ck.state[32..40].copy_from_slice(&f64::NAN.to_le_bytes());
+    // The state begins with its version (4 bytes), the step (8), the step the last epoch ended
+    // (8), the nozzle's particle volume (8), the released particles (a count of 8, none here)
+    // and the particles' count (8): the first particle's anchor x follows.
+    assert_eq!(u64::from_le_bytes(ck.state[28..36].try_into().expect("8 bytes")), 0, "no released material");
+    ck.state[44..52].copy_from_slice(&f64::NAN.to_le_bytes());
     let dir = spraysim::output::OutputDir::lock(&out).expect("lock");
     write_checkpoint(&dir, &ck).expect("written with a checksum made anew");
     drop(dir);

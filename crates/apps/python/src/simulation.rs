@@ -212,7 +212,7 @@ impl PySimulation {
         self.read(py, Simulation::is_finished)
     }
 
-    /// Worker threads of the update stage (0: one per core, at most `spraysim::max_threads()`);
+    /// Worker threads that fly the particles (0: one per core, at most `spraysim::max_threads()`);
     /// results do not depend on it.
     #[getter]
     fn get_threads(&self, py: Python<'_>) -> usize {
@@ -242,7 +242,7 @@ impl PySimulation {
 
     /// Particles emitted so far: `(count, volume in m³)`.
     fn emitted(&self, py: Python<'_>) -> PyResult<(u64, f64)> {
-        let e = self.read(py, |s| s.tally().emitted)?;
+        let e = self.read(py, |s| s.tally().emitted.amount(s.config().volume_quantum()))?;
         Ok((e.count, e.volume))
     }
 

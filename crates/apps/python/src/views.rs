@@ -155,9 +155,8 @@ pub fn target_info<'py>(
 
 /// The particles in flight, at the present time, as numpy arrays.
 pub fn particles<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Bound<'py, PyDict>> {
-    use spraysim::particles::flags::ALIVE;
-    let s = sim.swarm();
-    let alive: Vec<usize> = (0..s.len()).filter(|&i| s.flags[i] & ALIVE != 0).collect();
+    let s = &sim.swarm().particles;
+    let alive: Vec<usize> = (0..s.len()).filter(|&i| s[i].is_alive()).collect();
     let n = alive.len();
     let (mut pos, mut vel, mut age) =
         (Vec::with_capacity(3 * n), Vec::with_capacity(3 * n), Vec::with_capacity(n));
@@ -171,8 +170,11 @@ pub fn particles<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Bound<'py, 
     d.set_item("position", PyArray1::from_vec(py, pos).reshape([n, 3])?)?;
     d.set_item("velocity", PyArray1::from_vec(py, vel).reshape([n, 3])?)?;
     d.set_item("age", PyArray1::from_vec(py, age))?;
-    d.set_item("id", PyArray1::from_vec(py, alive.iter().map(|&i| s.id[i]).collect::<Vec<u32>>()))?;
-    d.set_item("impacts", PyArray1::from_vec(py, alive.iter().map(|&i| s.impacts[i]).collect::<Vec<u16>>()))?;
-    d.set_item("state", PyArray1::from_vec(py, alive.iter().map(|&i| s.flags[i]).collect::<Vec<u8>>()))?;
+    d.set_item("id", PyArray1::from_vec(py, alive.iter().map(|&i| s[i].id).collect::<Vec<u32>>()))?;
+    d.set_item(
+        "impacts",
+        PyArray1::from_vec(py, alive.iter().map(|&i| s[i].impacts()).collect::<Vec<u16>>()),
+    )?;
+    d.set_item("state", PyArray1::from_vec(py, alive.iter().map(|&i| s[i].flags()).collect::<Vec<u8>>()))?;
     Ok(d)
 }

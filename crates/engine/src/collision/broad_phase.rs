@@ -297,6 +297,24 @@ impl Grid {
             && self.flags[self.index(self.cell_of(b.min))] & cell::CROWDED == 0
     }
 
+    /// True if the box `b`, inside the grid, lies within one empty neighbourhood of the
+    /// distance map: the blocks within the distance of the block at its centre, less one, hold
+    /// nothing, and `b` lies inside them. False when anything is binned near it, or it reaches
+    /// past the grid's edge (what lies beyond is not known to be empty).
+    pub fn box_is_empty(&self, b: &Aabb) -> bool {
+        if self.start.is_empty() {
+            return true;
+        }
+        if !(self.origin.cmple(b.min).all() && b.max.cmplt(self.end).all()) {
+            return false;
+        }
+        let (lo, hi) = (self.cell_of(b.min) / 2, self.cell_of(b.max) / 2);
+        let c = (lo + hi) / 2;
+        let d = i32::from(self.distance[self.block_index(c)]);
+        let r = d - 1;
+        d > 0 && (c - lo).max_element() <= r && (hi - c).max_element() <= r
+    }
+
     /// Calls `visit` with the surfaces of every cell that `b` overlaps (a surface spanning
     /// several of them is visited once per cell).
     pub fn for_each_in_box(&self, b: &Aabb, mut visit: impl FnMut(&[u32])) {

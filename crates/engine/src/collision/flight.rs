@@ -67,7 +67,7 @@ impl Flight {
 
     /// Bounding box of the arc: endpoints and, per axis, the apex if it falls inside.
     // Inlined everywhere: the arc is built just before, and reading it back from memory as
-    // vectors stalls on the fields just written (a tenth of the event-driven run's samples).
+    // vectors stalls on the fields just written (once a tenth of a run's samples).
     #[inline(always)]
     pub fn aabb(&self) -> super::Aabb {
         let end = self.at(self.duration);

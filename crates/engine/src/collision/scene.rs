@@ -134,10 +134,11 @@ impl Scene {
         self.set_layer_allowances(&ids);
     }
 
-    /// True if the box `b` overlaps surface `id`'s bounds, its layer allowance included (always
-    /// for unbounded planes).
+    /// True if the box `b` overlaps surface `id`'s bounds, its layer allowance included, grown
+    /// by a rounding margin (always for unbounded planes).
+    #[inline]
     pub fn reaches(&self, id: SurfaceId, b: &Aabb) -> bool {
-        self.bounds_of(id).is_none_or(|s| s.overlaps(b))
+        self.boxes[id.index()].overlaps(b)
     }
 
     /// Surface `id`'s bounds, its layer allowance included (`None` for unbounded planes).
@@ -149,6 +150,36 @@ impl Scene {
     #[inline]
     pub fn surface(&self, id: SurfaceId) -> &SurfaceRef {
         &self.surfaces[id.index()]
+    }
+
+    /// True if no unbounded plane crosses or touches the box `b` (each has every corner of
+    /// the box strictly on one side).
+    pub fn unbounded_clear(&self, b: &Aabb) -> bool {
+        self.unbounded.iter().all(|&i| match &self.surfaces[i as usize].shape {
+            Shape::Plane(plane) => {
+                let (lo, hi) = plane.signed_range(b);
+                lo > BOX_MARGIN || hi < -BOX_MARGIN
+            }
+            _ => false,
+        })
+    }
+
+    /// True if no bounded surface (its layer allowance included) is binned in any cell near the
+    /// box `b`: a box inside one empty neighbourhood of the broad phase's distance map.
+    pub fn box_is_empty(&self, b: &Aabb) -> bool {
+        self.grid.box_is_empty(b)
+    }
+
+    /// True if the box `b` is smaller than a cell of the broad phase and its lower corner lies
+    /// in a cell whose whole neighbourhood is empty (layer zones included).
+    pub fn box_is_clear(&self, b: &Aabb) -> bool {
+        self.unbounded.is_empty() && self.grid.box_is_clear(b)
+    }
+
+    /// Calls `visit` with every bounded surface binned in the cells that the box `b` overlaps
+    /// (a surface spanning several of them once per cell).
+    pub fn surfaces_near(&self, b: &Aabb, visit: &mut dyn FnMut(SurfaceId)) {
+        self.grid.for_each_in_box(b, |items| items.iter().for_each(|&i| visit(SurfaceId(i))));
     }
 
     /// The surfaces, in the order they were given.

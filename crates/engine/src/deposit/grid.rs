@@ -217,8 +217,13 @@ impl<C: Chart> DepositSurface for GridSurface<C> {
         self.field.volume()
     }
 
-    fn add_hit(&mut self, cell: u32) {
-        self.field.add_hit(cell);
+    fn add_hits(&mut self, cell: u32, n: u32) {
+        self.field.add_hits(cell, n);
+    }
+
+    fn footprint(&self, cell: u32, visit: &mut dyn FnMut(u32)) {
+        let (u, v) = self.field.cell_center(cell);
+        self.field.footprint(self.solid(cell, u, v), visit);
     }
 
     fn deposit(&mut self, cell: u32, volume: f64) {

@@ -323,9 +323,9 @@ impl DepositSurface for MeshSurface {
         self.max_thickness
     }
 
-    fn add_hit(&mut self, cell: u32) {
+    fn add_hits(&mut self, cell: u32, n: u32) {
         let h = &mut self.hits[cell as usize];
-        *h = h.saturating_add(1);
+        *h = h.saturating_add(n);
     }
 
     fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64)) {

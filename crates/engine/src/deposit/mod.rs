@@ -13,6 +13,7 @@ mod grid;
 mod heightfield;
 mod mesh;
 mod openings;
+mod pending;
 mod pyramid;
 mod sums;
 
@@ -21,6 +22,7 @@ pub use grid::{CylinderSurface, GridSurface, RectangleSurface};
 pub use heightfield::HeightField;
 pub use mesh::{MeshError, MeshSurface};
 pub use openings::Opening;
+pub use pending::{Gathered, Pending, WEAR_QUANTUM, share, wear_quanta};
 
 use crate::collision::{Aabb, Hit, Primitive, Shape};
 use glam::DVec3;
@@ -153,7 +155,7 @@ pub struct MapAxis {
 /// - the cells around a cell: [`neighbours`](Self::neighbours), [`stencil`](Self::stencil),
 ///   [`edge_distance`](Self::edge_distance);
 /// - the layer's storage: [`thickness`](Self::thickness), [`hits`](Self::hits),
-///   [`add_hit`](Self::add_hit), [`add_thickness`](Self::add_thickness),
+///   [`add_hits`](Self::add_hits), [`add_thickness`](Self::add_thickness),
 ///   [`take_changed`](Self::take_changed);
 /// - the layer's shape: [`layer_contact`](Self::layer_contact), and [`mesh`](Self::mesh) for
 ///   drawing and export.
@@ -211,8 +213,8 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     /// Impacts per cell (stuck or rebounded); stored in place like [`DepositSurface::thickness`].
     fn hits(&self) -> &[u32];
 
-    /// Counts one impact in `cell`.
-    fn add_hit(&mut self, cell: u32);
+    /// Counts `n` impacts in `cell`.
+    fn add_hits(&mut self, cell: u32, n: u32);
 
     /// Adds `dt` (m, negative to remove) to `cell`'s thickness, never below 0, keeping
     /// [`DepositSurface::max_thickness`] a bound and marking the cell changed.
@@ -308,6 +310,12 @@ pub trait DepositSurface: Send + Sync + std::fmt::Debug {
     /// Σ thickness × area: the volume held, m³.
     fn volume(&self) -> f64 {
         self.thickness().iter().enumerate().map(|(c, t)| t * self.cell_area(c as u32)).sum()
+    }
+
+    /// Calls `visit` with each cell among which a deposit struck at `cell` is shared evenly (its
+    /// splat), in a fixed order, the cell it centres on first: by default `cell` alone.
+    fn footprint(&self, cell: u32, visit: &mut dyn FnMut(u32)) {
+        visit(cell);
     }
 
     /// Deposits `volume` (m³) centred on `cell`, conserving it exactly (up to rounding). By
@@ -410,7 +418,8 @@ macro_rules! surfaces {
             #[inline]
             fn max_thickness(&self) -> f64 { each!(self, s => s.max_thickness()) }
             fn volume(&self) -> f64 { each!(self, s => s.volume()) }
-            fn add_hit(&mut self, cell: u32) { each!(self, s => s.add_hit(cell)) }
+            fn add_hits(&mut self, cell: u32, n: u32) { each!(self, s => s.add_hits(cell, n)) }
+            fn footprint(&self, cell: u32, visit: &mut dyn FnMut(u32)) { each!(self, s => s.footprint(cell, visit)) }
             fn deposit(&mut self, cell: u32, volume: f64) { each!(self, s => s.deposit(cell, volume)) }
             fn remove(&mut self, cell: u32, volume: f64) -> f64 { each!(self, s => s.remove(cell, volume)) }
             fn neighbours(&self, cell: u32, visit: &mut dyn FnMut(u32, f64)) {
@@ -528,8 +537,8 @@ mod tests {
         fn hits(&self) -> &[u32] {
             self.0.hits()
         }
-        fn add_hit(&mut self, cell: u32) {
-            self.0.add_hit(cell);
+        fn add_hits(&mut self, cell: u32, n: u32) {
+            self.0.add_hits(cell, n);
         }
         fn add_thickness(&mut self, cell: u32, dt: f64) {
             self.0.add_thickness(cell, dt);

@@ -2,10 +2,6 @@
 
 use glam::DVec3;
 
-pub mod lanes;
-
-pub use lanes::Lanes;
-
 /// Standard gravity along −z, m/s².
 pub const GRAVITY: DVec3 = DVec3::new(0.0, 0.0, -9.81);
 

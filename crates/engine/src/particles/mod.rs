@@ -1,7 +1,7 @@
-//! Particles: structure-of-arrays storage and the random streams each particle draws from.
+//! Particles: their lean 48-byte records and the random streams each particle draws from.
 
 pub mod rng;
 pub mod swarm;
 
 pub use rng::{MATERIAL_EVENT, StreamKey};
-pub use swarm::{Swarm, Volumes, flags};
+pub use swarm::{MAX_IMPACTS, Particle, Swarm, Volumes, flags};

@@ -1,10 +1,34 @@
-//! Particle storage: one array per attribute (structure of arrays), so the update stage is a
-//! plain loop over parallel slices.
+//! Particle storage: one 48-byte record per particle in flight, everything included.
+//!
+//! # What a particle holds, and the precision of each part
+//!
+//! A [`Particle`] is its *anchor* (the position and velocity at its last event: its emission,
+//! its last impact, or, with the Euler integrators, the end of its last step), the whole steps
+//! flown since then, the step it was born, its id and its status. Its present position and
+//! velocity follow from the anchor: in closed form for the exact integrator, and as the anchor
+//! itself for the Euler ones, which re-anchor at every step.
+//!
+//! - **Positions are f64.** A particle's position is compared with layers tens of micrometres
+//!   thick at coordinates up to 10⁴ m ([`crate::config::MAX_COORD`]), where an f32 resolves
+//!   only a millimetre.
+//! - **Velocities are f32.** Rounding a velocity to single precision changes it by at most
+//!   2⁻²⁴ of itself, which moves the particle by at most `2⁻²⁴ |v| Δt` per step. An Euler
+//!   particle re-anchors every step, so over a flight of `n` steps the rounding adds up to at
+//!   most `n² Δt |v| 2⁻²⁵`: under 1 mm for 1000 steps (1 s at Δt = 1 ms) at 30 m/s, against the
+//!   integrator's own error of about `|g| t Δt / 2` = 5 mm over the same second (and, as the
+//!   rounding errors have no preferred sign, typically √n times less). An exact-integrator
+//!   particle is rounded only at its events, so its flight between them is exact.
+//! - **Times are whole steps.** The age is the step count since birth, the anchor's time the
+//!   step count since the anchor (re-anchored before it overflows), so neither drifts.
+//!
+//! Volumes are not stored per particle: every particle from the nozzle carries the emitter's
+//! volume, and released material (rare) carries its own, kept in a table by id ([`Volumes`]).
+//! Slots stay in increasing id order.
 
 use crate::checkpoint::{Dec, Enc, StateError};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
-/// Status bits of a particle.
+/// Status bits of a particle (the top four bits of [`Particle::status`]).
 pub mod flags {
     /// The particle is in flight.
     pub const ALIVE: u8 = 1;
@@ -16,181 +40,207 @@ pub mod flags {
     pub const BOUNCED: u8 = 8;
 }
 
+/// Most impacts a particle may make: its impact count has 12 bits. A particle that reaches it
+/// is retired as expired.
+pub const MAX_IMPACTS: u16 = (1 << 12) - 1;
+
+/// One particle in flight (or retired and waiting for compaction): 48 bytes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct Particle {
+    /// Position at the anchor, m.
+    pub anchor: DVec3,
+    /// Velocity at the anchor, m/s (single precision: see the module's docs).
+    pub velocity: Vec3,
+    /// The step in which the particle was emitted or released: its age is the steps since.
+    pub born: u32,
+    /// Emission index within the run; selects the particle's random streams.
+    pub id: u32,
+    /// Whole steps flown since the anchor (always 0 with the Euler integrators).
+    pub since: u16,
+    /// Impact count (low 12 bits, at most [`MAX_IMPACTS`]) and status bits (high 4, see
+    /// [`flags`]).
+    pub status: u16,
+}
+
+const _: () = assert!(std::mem::size_of::<Particle>() == 48);
+
+impl Particle {
+    /// A particle at `position` (m) with `velocity` (m/s), born in step `born`, with status
+    /// bits `bits` and no impact yet.
+    pub fn new(position: DVec3, velocity: DVec3, born: u32, id: u32, bits: u8) -> Particle {
+        Particle {
+            anchor: position,
+            velocity: velocity.as_vec3(),
+            born,
+            id,
+            since: 0,
+            status: u16::from(bits) << 12,
+        }
+    }
+
+    /// Status bits (see [`flags`]).
+    #[inline]
+    pub fn flags(&self) -> u8 {
+        (self.status >> 12) as u8
+    }
+
+    /// Sets the status bits (see [`flags`]).
+    #[inline]
+    pub fn set_flags(&mut self, bits: u8) {
+        self.status = (self.status & MAX_IMPACTS) | (u16::from(bits & 0xF) << 12);
+    }
+
+    /// True while the particle is in flight.
+    #[inline]
+    pub fn is_alive(&self) -> bool {
+        self.flags() & flags::ALIVE != 0
+    }
+
+    /// Impacts so far; numbers the particle's random events.
+    #[inline]
+    pub fn impacts(&self) -> u16 {
+        self.status & MAX_IMPACTS
+    }
+
+    /// Sets the impact count (at most [`MAX_IMPACTS`]).
+    #[inline]
+    pub fn set_impacts(&mut self, n: u16) {
+        self.status = (self.status & !MAX_IMPACTS) | n.min(MAX_IMPACTS);
+    }
+
+    /// The anchor velocity, m/s, in double precision.
+    #[inline]
+    pub fn anchor_velocity(&self) -> DVec3 {
+        self.velocity.as_dvec3()
+    }
+}
+
 /// Material volume of each particle, without an array over all of them: every particle from
 /// the nozzle carries the emitter's volume, and released material (rare) carries its own, kept
-/// in a table by id.
-#[derive(Clone, Debug, Default)]
+/// in a table by id. Volumes are in quanta of the run's volume quantum (see
+/// [`crate::SimulationConfig::volume_quantum`]).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Volumes {
-    /// Volume of every particle from the nozzle, m³.
-    pub nozzle: f32,
-    /// `(id, volume in m³)` of each released particle, by increasing id.
-    released: Vec<(u32, f32)>,
+    /// Volume of every particle from the nozzle, quanta.
+    pub nozzle: u64,
+    /// `(id, volume in quanta)` of each released particle, by increasing id.
+    released: Vec<(u32, u64)>,
 }
 
 impl Volumes {
-    /// Volume carried by the particle with emission index `id` and status bits `bits`, m³.
+    /// Volume carried by the particle with emission index `id` and status bits `bits`, quanta.
     #[inline]
-    pub fn of(&self, id: u32, bits: u8) -> f32 {
+    pub fn of(&self, id: u32, bits: u8) -> u64 {
         if bits & flags::RELEASED == 0 {
             return self.nozzle;
         }
         // Every released particle in flight is in the table.
-        self.released.binary_search_by_key(&id, |&(i, _)| i).map_or(0.0, |k| self.released[k].1)
+        self.released.binary_search_by_key(&id, |&(i, _)| i).map_or(0, |k| self.released[k].1)
     }
 }
 
-/// All particles of a run: in flight, or retired and waiting for compaction.
-///
-/// Per particle: position and velocity (2 × 24 bytes), age (4), id (4), wake step (4), impact
-/// count (2) and flags (1): 63 bytes. Volumes are not stored per particle (see [`Volumes`]).
-/// Slots stay in increasing id order.
-#[derive(Clone, Debug, Default)]
+/// All particles of a run: in flight, or retired and waiting for compaction. Slots stay in
+/// increasing id order.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Swarm {
-    /// Position, m.
-    pub pos: Vec<DVec3>,
-    /// Velocity, m/s.
-    pub vel: Vec<DVec3>,
-    /// Time since emission, s.
-    pub age: Vec<f32>,
-    /// Emission index within the run; selects the particle's random stream.
-    pub id: Vec<u32>,
-    /// Impacts so far; numbers the particle's random events.
-    pub impacts: Vec<u16>,
-    /// Status bits, see [`flags`].
-    pub flags: Vec<u8>,
-    /// Step at which the particle is next updated. With the exact integrator, a particle whose
-    /// flight certainly meets nothing for a while is moved in closed form to the start of the
-    /// step of its next event and skips the steps in between; its position and velocity are
-    /// then those at the start of that step.
-    pub wake: Vec<u32>,
+    /// The particles, by increasing id.
+    pub particles: Vec<Particle>,
     /// Material volume carried by each particle.
     pub volumes: Volumes,
 }
 
 impl Swarm {
-    /// Bytes of storage per particle slot, summed over the arrays.
-    pub const BYTES_PER_PARTICLE: usize = 2 * std::mem::size_of::<DVec3>()
-        + std::mem::size_of::<f32>()
-        + 2 * std::mem::size_of::<u32>()
-        + std::mem::size_of::<u16>()
-        + std::mem::size_of::<u8>();
+    /// Bytes of storage per particle slot.
+    pub const BYTES_PER_PARTICLE: usize = std::mem::size_of::<Particle>();
 
-    /// An empty swarm whose nozzle particles each carry `nozzle_volume` (m³).
-    pub fn new(nozzle_volume: f32) -> Swarm {
-        Swarm { volumes: Volumes { nozzle: nozzle_volume, released: Vec::new() }, ..Swarm::default() }
+    /// An empty swarm whose nozzle particles each carry `nozzle_volume` quanta.
+    pub fn new(nozzle_volume: u64) -> Swarm {
+        Swarm { particles: Vec::new(), volumes: Volumes { nozzle: nozzle_volume, released: Vec::new() } }
     }
 
     /// Number of slots (in flight or retired since the last compaction).
     pub fn len(&self) -> usize {
-        self.pos.len()
+        self.particles.len()
     }
 
     /// True when no slot is used.
     pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
+        self.particles.is_empty()
     }
 
     /// Number of particles in flight.
     pub fn alive(&self) -> usize {
-        self.flags.iter().filter(|&&f| f & flags::ALIVE != 0).count()
+        self.particles.iter().filter(|p| p.is_alive()).count()
     }
 
-    /// Material volume carried by the particle in slot `i`, m³.
-    pub fn volume(&self, i: usize) -> f32 {
-        self.volumes.of(self.id[i], self.flags[i])
+    /// Material volume carried by the particle in slot `i`, quanta.
+    pub fn volume(&self, i: usize) -> u64 {
+        let p = &self.particles[i];
+        self.volumes.of(p.id, p.flags())
     }
 
-    /// Adds a particle from the nozzle, in flight; `id` must exceed every id so far.
-    pub fn push(&mut self, pos: DVec3, vel: DVec3, id: u32) {
-        self.push_slot(pos, vel, id, flags::ALIVE);
+    /// Adds released material of `quanta` volume; its id must exceed every id so far.
+    pub fn push_released(&mut self, particle: Particle, quanta: u64) {
+        debug_assert!(particle.flags() & flags::RELEASED != 0);
+        self.volumes.released.push((particle.id, quanta));
+        self.push(particle);
     }
 
-    /// Adds released material of `volume` (m³) with the given status bits (which must include
-    /// [`flags::RELEASED`]); `id` must exceed every id so far.
-    pub fn push_released(&mut self, pos: DVec3, vel: DVec3, volume: f32, id: u32, bits: u8) {
-        debug_assert!(bits & flags::RELEASED != 0);
-        self.volumes.released.push((id, volume));
-        self.push_slot(pos, vel, id, bits);
-    }
-
-    fn push_slot(&mut self, pos: DVec3, vel: DVec3, id: u32, bits: u8) {
-        debug_assert!(self.id.last().is_none_or(|&last| last < id), "ids must increase");
-        self.pos.push(pos);
-        self.vel.push(vel);
-        self.age.push(0.0);
-        self.id.push(id);
-        self.impacts.push(0);
-        self.flags.push(bits);
-        self.wake.push(0);
+    /// Adds a particle; its id must exceed every id so far.
+    pub fn push(&mut self, particle: Particle) {
+        debug_assert!(self.particles.last().is_none_or(|last| last.id < particle.id), "ids must increase");
+        self.particles.push(particle);
     }
 
     /// Writes every particle slot and the released volumes, for a checkpoint.
     pub(crate) fn save_state(&self, e: &mut Enc) {
-        e.f32(self.volumes.nozzle);
+        e.u64(self.volumes.nozzle);
         e.list(&self.volumes.released, |e, &(id, v)| {
             e.u32(id);
-            e.f32(v);
+            e.u64(v);
         });
-        e.list(&self.pos, |e, &p| e.vec3(p));
-        e.list(&self.vel, |e, &v| e.vec3(v));
-        e.list(&self.age, |e, &x| e.f32(x));
-        e.list(&self.id, |e, &x| e.u32(x));
-        e.list(&self.impacts, |e, &x| e.u16(x));
-        e.list(&self.flags, |e, &x| e.u8(x));
-        e.list(&self.wake, |e, &x| e.u32(x));
+        e.list(&self.particles, |e, p| {
+            e.vec3(p.anchor);
+            p.velocity.to_array().into_iter().for_each(|x| e.f32(x));
+            e.u32(p.born);
+            e.u32(p.id);
+            e.u16(p.since);
+            e.u16(p.status);
+        });
     }
 
     /// Reads what [`Swarm::save_state`] wrote.
     pub(crate) fn load_state(d: &mut Dec<'_>) -> Result<Swarm, StateError> {
-        let nozzle = d.f32()?;
-        let released = d.list(8, |d| Ok((d.u32()?, d.f32()?)))?;
-        let pos = d.list(24, Dec::vec3)?;
-        let n = pos.len();
-        let swarm = Swarm {
-            pos,
-            vel: d.list_of(n, "the velocities", 24, Dec::vec3)?,
-            age: d.list_of(n, "the ages", 4, Dec::f32)?,
-            id: d.list_of(n, "the ids", 4, Dec::u32)?,
-            impacts: d.list_of(n, "the impact counts", 2, Dec::u16)?,
-            flags: d.list_of(n, "the flags", 1, Dec::u8)?,
-            wake: d.list_of(n, "the wake steps", 4, Dec::u32)?,
-            volumes: Volumes { nozzle, released },
-        };
-        if swarm.id.windows(2).any(|w| w[0] >= w[1]) {
+        let nozzle = d.u64()?;
+        let released = d.list(12, |d| Ok((d.u32()?, d.u64()?)))?;
+        let particles = d.list(48, |d| {
+            Ok(Particle {
+                anchor: d.vec3()?,
+                velocity: Vec3::new(d.f32()?, d.f32()?, d.f32()?),
+                born: d.u32()?,
+                id: d.u32()?,
+                since: d.u16()?,
+                status: d.u16()?,
+            })
+        })?;
+        if particles.windows(2).any(|w| w[0].id >= w[1].id) {
             return Err(StateError::Mismatch("particle ids out of order".into()));
         }
-        Ok(swarm)
+        if released.windows(2).any(|w| w[0].0 >= w[1].0) {
+            return Err(StateError::Mismatch("released particle ids out of order".into()));
+        }
+        Ok(Swarm { particles, volumes: Volumes { nozzle, released } })
     }
 
     /// Drops retired particles, keeping the others in order (so processing order, and with it
     /// every result, is independent of when compaction runs).
     pub fn compact(&mut self) {
-        // One pass over every array, moving each kept slot down to the next free one.
-        let mut kept = 0;
-        for i in 0..self.len() {
-            if self.flags[i] & flags::ALIVE == 0 {
-                continue;
-            }
-            self.pos[kept] = self.pos[i];
-            self.vel[kept] = self.vel[i];
-            self.age[kept] = self.age[i];
-            self.id[kept] = self.id[i];
-            self.impacts[kept] = self.impacts[i];
-            self.flags[kept] = self.flags[i];
-            self.wake[kept] = self.wake[i];
-            kept += 1;
-        }
-        self.pos.truncate(kept);
-        self.vel.truncate(kept);
-        self.age.truncate(kept);
-        self.id.truncate(kept);
-        self.impacts.truncate(kept);
-        self.flags.truncate(kept);
-        self.wake.truncate(kept);
+        self.particles.retain(Particle::is_alive);
         // The released particles still in flight, in slot (so id) order.
         let v = &self.volumes;
-        let kept = self.id.iter().zip(&self.flags).filter(|&(_, f)| f & flags::RELEASED != 0);
-        self.volumes.released = kept.map(|(&id, &f)| (id, v.of(id, f))).collect();
+        let kept = self.particles.iter().filter(|p| p.flags() & flags::RELEASED != 0);
+        self.volumes.released = kept.map(|p| (p.id, v.of(p.id, p.flags()))).collect();
     }
 }
 
@@ -199,22 +249,29 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_particle_slot_takes_63_bytes_and_compaction_keeps_order_and_volumes() {
-        assert_eq!(Swarm::BYTES_PER_PARTICLE, 63);
-        let mut s = Swarm::new(1e-6);
-        let released = flags::ALIVE | flags::RELEASED;
-        s.push(DVec3::ONE, DVec3::X, 7);
-        s.push_released(DVec3::ZERO, DVec3::ZERO, 3e-6, 8, released);
-        s.push(DVec3::ZERO, DVec3::Y, 9);
-        s.push_released(DVec3::ZERO, DVec3::ZERO, 5e-6, 10, released);
-        s.push_released(DVec3::ZERO, DVec3::ZERO, 6e-6, 11, released);
-        s.flags[0] &= !flags::ALIVE;
-        s.flags[3] &= !flags::ALIVE;
+    fn status_bits_and_impact_count_share_a_word_without_spilling() {
+        let mut p = Particle::new(DVec3::ONE, DVec3::X, 7, 3, flags::ALIVE | flags::RELEASED);
+        assert_eq!((p.flags(), p.impacts()), (flags::ALIVE | flags::RELEASED, 0));
+        p.set_impacts(MAX_IMPACTS + 10);
+        assert_eq!((p.flags(), p.impacts()), (flags::ALIVE | flags::RELEASED, MAX_IMPACTS));
+        p.set_flags(flags::BOUNCED);
+        assert_eq!((p.flags(), p.impacts()), (flags::BOUNCED, MAX_IMPACTS));
+        assert!(!p.is_alive());
+    }
+
+    #[test]
+    fn compaction_keeps_live_particles_in_order_with_their_volumes() {
+        let mut s = Swarm::new(100);
+        for id in 0..6u32 {
+            let bits = if id % 2 == 0 { flags::ALIVE | flags::RELEASED } else { flags::ALIVE };
+            let p = Particle::new(DVec3::ZERO, DVec3::ZERO, 0, id, bits);
+            if bits & flags::RELEASED != 0 { s.push_released(p, u64::from(id) + 1) } else { s.push(p) }
+        }
+        s.particles[2].set_flags(flags::RELEASED);
+        s.particles[3].set_flags(0);
         s.compact();
-        assert_eq!(s.id, [8, 9, 11]);
-        assert_eq!(s.alive(), 3);
-        assert_eq!([s.volume(0), s.volume(1), s.volume(2)], [3e-6, 1e-6, 6e-6]);
-        // The retired released particle's entry is gone with it.
-        assert_eq!(s.volumes.released.len(), 2);
+        let ids: Vec<u32> = s.particles.iter().map(|p| p.id).collect();
+        assert_eq!(ids, [0, 1, 4, 5]);
+        assert_eq!((0..4).map(|i| s.volume(i)).collect::<Vec<_>>(), [1, 100, 5, 100]);
     }
 }

@@ -1,58 +1,75 @@
-//! Emit stage: the nozzle's emitter spawns this step's particles, and the path metrics take
-//! their sample of the nozzle's pose.
+//! Emission: the particles the nozzle spawns in each step, and the path metrics' samples of
+//! its pose.
+//!
+//! The schedule is serial and cheap (a spawn count that carries its fraction from step to
+//! step, ids handed out in order, one pose per step); sampling each particle's start is done
+//! in the parallel part of a call, each from its own random stream.
 
-use super::{Plan, State, Workers};
+use super::State;
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
-use crate::emission::NozzleFrame;
-use crate::events::{EmissionEvent, EventHandler};
+use crate::emission::{NozzleFrame, Sampler};
+use crate::events::EmissionEvent;
+use crate::particles::{Particle, StreamKey, flags};
 use crate::world::Role;
 use glam::DVec3;
-use rayon::prelude::*;
 
-/// Emitting at least this many particles in one step samples them in parallel (a raster at
-/// 10⁵ particles/s and Δt = 1 ms emits 100 a step, which is worth sharing).
-const EMIT_PARALLEL: u64 = 64;
+/// The particles the nozzle spawns in one step.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Births {
+    /// The step, whose start they are born at.
+    pub step: u64,
+    /// The first one's id; the others follow.
+    pub first: u64,
+    /// How many.
+    pub count: u64,
+    /// The nozzle's pose in that step.
+    pub frame: NozzleFrame,
+    /// Velocity added to each (the nozzle's own, where the configuration asks for it), m/s.
+    pub carried: DVec3,
+}
 
-/// Spawns the step's particles, if the nozzle sprays.
-pub(super) fn run(
+impl Births {
+    /// Particle number `k` of this batch (from 0), its start sampled from its own stream.
+    #[inline]
+    pub fn particle(&self, k: u64, sampler: &Sampler<'_>, key: StreamKey) -> Particle {
+        // The configuration bounds the run's particle count by 2³², so every id fits in 32 bits.
+        let id = (self.first + k) as u32;
+        let (pos, vel) = sampler.sample(&self.frame, &mut key.stream(id, 0));
+        Particle::new(pos, vel + self.carried, self.step as u32, id, flags::ALIVE)
+    }
+}
+
+/// Schedules the births of steps `from..to`: hands out their ids, counts them as emitted and
+/// takes the path metrics' sample of each spraying step. Returns the batches (one per spraying
+/// step) and the emission events with their steps, in step order.
+pub(super) fn schedule(
     config: &SimulationConfig,
-    plan: &Plan,
     state: &mut State,
-    workers: &Workers,
-    events: &mut dyn EventHandler,
-) {
-    let time = state.step as f64 * config.dt;
-    let (frame, spraying) = state.nozzle.at(time);
-    if !spraying {
-        return;
+    from: u64,
+    to: u64,
+) -> (Vec<Births>, Vec<(u64, EmissionEvent)>) {
+    let (mut births, mut events) = (Vec::new(), Vec::new());
+    let nozzle_quanta = state.swarm.volumes.nozzle;
+    for step in from..to {
+        let time = step as f64 * config.dt;
+        let (frame, spraying) = state.nozzle.at(time);
+        if !spraying {
+            continue;
+        }
+        let nozzle_velocity = state.nozzle.velocity(time);
+        record_path(config, state, &frame, state.nozzle.travel_velocity(time), nozzle_velocity);
+        let carried = if config.add_nozzle_velocity { nozzle_velocity } else { DVec3::ZERO };
+        let count = config.emitter.spawn_count(config.dt, &mut state.spawn_carry);
+        let first = state.next_id;
+        state.next_id += count;
+        let emitted = &mut state.tally.emitted;
+        emitted.count += count;
+        emitted.quanta += u128::from(count) * u128::from(nozzle_quanta);
+        births.push(Births { step, first, count, frame, carried });
+        events.push((step, EmissionEvent { time, first, count, volume: config.emitter.particle_volume }));
     }
-    let nozzle_velocity = state.nozzle.velocity(time);
-    record_path(config, state, &frame, state.nozzle.travel_velocity(time), nozzle_velocity);
-    let carried = if config.add_nozzle_velocity { nozzle_velocity } else { DVec3::ZERO };
-    let emitter = &config.emitter;
-    let n = emitter.spawn_count(config.dt, &mut state.spawn_carry);
-    let volume = emitter.particle_volume as f32;
-    let (key, first) = (plan.key, state.next_id);
-    // Each particle samples from its own stream, so the split over threads cannot change the
-    // result; small batches are not worth the dispatch.
-    let sampler = emitter.sampler();
-    // The configuration bounds the run's particle count by 2³², so every id fits in 32 bits.
-    let sample = |id: u64| {
-        let (pos, vel) = sampler.sample(&frame, &mut key.stream(id as u32, 0));
-        (pos, vel + carried)
-    };
-    let born: Vec<_> = if n >= EMIT_PARALLEL && workers.parallel() {
-        workers.install(|| (first..first + n).into_par_iter().map(sample).collect())
-    } else {
-        (first..first + n).map(sample).collect()
-    };
-    for (k, (pos, vel)) in born.into_iter().enumerate() {
-        state.swarm.push(pos, vel, (first + k as u64) as u32);
-        state.tally.emitted.add(f64::from(volume));
-    }
-    state.next_id += n;
-    events.emission(&EmissionEvent { time, first, count: n, volume: emitter.particle_volume });
+    (births, events)
 }
 
 /// Path-quality sample of a spraying step: standoff and angle to the nearest substrate surface

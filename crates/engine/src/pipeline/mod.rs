@@ -1,50 +1,43 @@
 //! The simulation pipeline. A [`Simulation`] holds its resolved parameters (a
 //! [`SimulationConfig`], shared and immutable) and plain data sets (swarm, scene, targets,
-//! obstacles, tallies); [`Simulation::step`] runs named stages over them in a fixed order:
+//! obstacles, tallies), and advances them in **layer epochs** of
+//! [`SimulationConfig::layer_epoch`] steps:
 //!
-//! 1. **emit** (`emit.rs`): the nozzle's emitter spawns this step's particles;
-//! 2. **update** (`update.rs`): every particle in flight moves, collides and resolves its
-//!    impacts (parallel over fixed-size chunks, each particle with its own random stream);
-//! 3. **apply** (`apply.rs`): impact records are applied to deposits and tallies in particle
-//!    order, each booked by the target or obstacle struck (`Target::record_impact`), and
-//!    impact events reach the event handler;
-//! 4. **layers** (`layers.rs`): the layer stages (cohesion, drip, …) at their intervals; then
-//!    **watch** (`watch.rs`) wakes the sleeping particles a layer has grown under, and the
-//!    broad phase is told how far the layers have grown (waking the sleepers that come near a
-//!    grown zone);
-//! 5. **compact**: retired particles are dropped from the swarm once they are many.
+//! - Within an epoch, particles see every deposit surface as it stood at the epoch's start,
+//!   so they are independent of each other: each is flown through all the steps a call covers
+//!   in one go (`kernel.rs`), in one parallel region per call (`epoch.rs`), after the serial
+//!   schedule of the steps' births (`emit.rs`).
+//! - Deposits, impact counts and wear gather during the epoch in each target's integer
+//!   counters, and take effect at its end, with the layer stages (cohesion, drip, slump) that
+//!   fall due and the broad phase's layer allowances (`settle.rs`).
+//! - Totals are booked in integer quanta, added up in any order to the same sums; events are
+//!   sorted by step, particle and impact before they are passed on.
 //!
-//! Because chunks are fixed in size and records are applied in order, the result is
-//! bit-identical whatever the number of threads.
+//! So results are bit-identical for any number of threads, and for any split of a run into
+//! calls: [`Simulation::step`] one step at a time gives what [`Simulation::advance`] gives an
+//! epoch at a time. An epoch of one step couples particles and layers step by step.
 
-mod apply;
 mod emit;
-mod layers;
+mod epoch;
+mod kernel;
 mod persist;
+mod settle;
 mod setup;
-mod update;
-mod watch;
 
 use crate::collision::Scene;
 use crate::config::{ConfigError, MAX_COORD, SimulationConfig};
 use crate::emission::NozzlePath;
 use crate::events::{Both, EventHandler, FailureEvent, ImpactEvent, ImpactLog};
-use crate::motion::{Integrator, Lanes};
+use crate::motion::Integrator;
 use crate::particles::{StreamKey, Swarm};
 use crate::process::{ImpactModel, LayerStage};
 use crate::tally::{PathTally, Tally};
 use crate::world::{Obstacle, Target};
+use glam::DVec3;
 use std::sync::Arc;
 
-/// Particles per work unit of the update stage. Fixed, so that the split of work, and with it
-/// the order in which records are applied, never depends on the thread count.
-/// Small enough that a step with few particles awake still splits into enough tasks to keep
-/// every thread busy: a raster at 10⁵ particles/s has about 11 000 in flight, of which about 800
-/// are awake in a step, most of them in the youngest chunks.
-const CHUNK: usize = 256;
-
-/// The swarm is compacted once more slots than this have retired (and a quarter of them): the
-/// former chunk size, so that compaction runs at the steps it always has.
+/// The swarm is compacted at an epoch's end once more slots than this have retired (and a
+/// quarter of them): its serial cost, spread over the particles retired, stays small.
 const COMPACT_MIN: usize = 1024;
 
 /// Why a simulation could not be set up.
@@ -119,6 +112,8 @@ impl Workers {
 #[derive(Clone, Debug)]
 struct Plan {
     total_steps: u64,
+    /// Steps per layer epoch.
+    epoch: u64,
     key: StreamKey,
     /// Impact model of each surface owner (targets, then obstacles); surfaces index it.
     models: Vec<ImpactModel>,
@@ -131,6 +126,7 @@ struct Plan {
 struct State {
     step: u64,
     swarm: Swarm,
+    /// Slots of the swarm whose particles have left flight since the last compaction.
     retired: usize,
     /// Fractional particles carried to the next spraying step.
     spawn_carry: f64,
@@ -145,8 +141,10 @@ struct State {
     failures: Vec<FailureEvent>,
     path: PathTally,
     impact_log: Option<ImpactLog>,
-    /// The layer nodes that sleeping particles watch.
-    watches: watch::Watches,
+    /// Per target, the cells the epoch under way has touched (see [`crate::deposit::Pending`]).
+    touched: Vec<Vec<u32>>,
+    /// The step at which the last epoch ended (0 at the start).
+    settled: u64,
 }
 
 /// A running simulation.
@@ -174,10 +172,8 @@ pub struct Simulation {
     plan: Plan,
     state: State,
     workers: Workers,
-    /// See [`Simulation::set_lazy_flight`].
-    lazy_flight: bool,
-    /// See [`Simulation::set_lanes`].
-    lanes: Lanes,
+    /// See [`Simulation::set_coasting`].
+    coasting: bool,
 }
 
 impl Simulation {
@@ -190,8 +186,8 @@ impl Simulation {
     /// Sets this simulation up afresh for `config`, at time 0, as [`Simulation::new`] would and
     /// with bit-identical results, but reusing the broad phase when the geometry (the targets'
     /// and obstacles' shapes and the domain) is unchanged: in a loop of many runs of one scene
-    /// (calibration, trajectory optimisation, seeds) the index is built once. The thread and
-    /// lazy-flight and lane settings are kept. On an error nothing changes.
+    /// (calibration, trajectory optimisation, seeds) the index is built once. The thread
+    /// setting is kept. On an error nothing changes.
     ///
     /// ```
     /// use spraysim_engine::{Simulation, SimulationConfig};
@@ -218,7 +214,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Runs the update stage on at most `threads` threads (0: rayon's global pool, one thread
+    /// Flies the particles on at most `threads` threads (0: rayon's global pool, one thread
     /// per core; 1: the calling thread alone, without a pool). Results do not depend on it.
     /// A count above [`max_threads`] is refused at once, before any thread starts.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), SetupError> {
@@ -272,10 +268,9 @@ impl Simulation {
         self.state.particle_steps
     }
 
-    /// Particle updates so far: the particle-steps not skipped in free flight (fewer than
-    /// [`Simulation::particle_steps`] only with the exact integrator; see
-    /// [`Simulation::set_lazy_flight`]). The work done, where particle-steps are the work
-    /// simulated.
+    /// Particle updates so far: the particle-steps flown as full steps (an exact search for
+    /// hits), where the others coasted through open space. The work done, where particle-steps
+    /// are the work simulated.
     pub fn particle_updates(&self) -> u64 {
         self.state.particle_updates
     }
@@ -296,21 +291,24 @@ impl Simulation {
     }
 
     /// Position (m), velocity (m/s) and age (s) of the particle in swarm slot `i` at the present
-    /// time ([`Simulation::time`]). These are the swarm's own arrays, except for a particle
-    /// asleep in free flight (exact integrator, see [`Simulation::set_lazy_flight`]), whose
-    /// arrays hold its state at the step it wakes: it is brought back to the present in closed
-    /// form. Panics if `i` is not a slot of the swarm.
-    pub fn particle_now(&self, i: usize) -> (glam::DVec3, glam::DVec3, f64) {
-        use crate::collision::Flight;
-        let s = &self.state.swarm;
-        let (pos, vel, age) = (s.pos[i], s.vel[i], f64::from(s.age[i]));
-        let wake = u64::from(s.wake[i]);
-        if wake <= self.state.step {
-            return (pos, vel, age);
+    /// time ([`Simulation::time`]), from its anchor (see [`crate::particles::Particle`]).
+    /// Panics if `i` is not a slot of the swarm.
+    pub fn particle_now(&self, i: usize) -> (DVec3, DVec3, f64) {
+        let p = &self.state.swarm.particles[i];
+        let (x, v) = (p.anchor, p.anchor_velocity());
+        let age = self.state.step.saturating_sub(u64::from(p.born)) as f64 * self.config.dt;
+        if self.config.motion.integrator != Integrator::Exact || p.since == 0 {
+            return (x, v, age);
         }
-        let back = -((wake - self.state.step) as f64 * self.config.dt);
-        let flight = Flight { x0: pos, v0: vel, g: self.config.motion.gravity, duration: 0.0 };
-        (flight.at(back), flight.velocity(back), age + back)
+        let (tau, g) = (f64::from(p.since) * self.config.dt, self.config.motion.gravity);
+        (x + v * tau + 0.5 * g * tau * tau, v + g * tau, age)
+    }
+
+    /// Position (m), velocity (m/s) and age (s) at the present time of every particle in
+    /// flight, in id order (see [`Simulation::particle_now`]).
+    pub fn in_flight(&self) -> impl Iterator<Item = (DVec3, DVec3, f64)> + '_ {
+        let particles = &self.state.swarm.particles;
+        (0..particles.len()).filter(|&i| particles[i].is_alive()).map(|i| self.particle_now(i))
     }
 
     /// The collidable surfaces, indexed.
@@ -349,91 +347,78 @@ impl Simulation {
         self.state.impact_log.as_ref().map_or(&[], |l| &l.entries)
     }
 
-    /// Runs steps until the duration is reached, calling `progress` after each.
-    pub fn run(&mut self, mut progress: impl FnMut(&Simulation)) {
-        while !self.is_finished() {
-            self.step();
-            progress(self);
-        }
-    }
-
     /// Advances the simulation by one time step Δt (also past the configured duration).
     pub fn step(&mut self) {
-        self.step_with(&mut ());
+        self.advance_with(1, &mut ());
     }
 
     /// [`Simulation::step`], reporting what happens to `events`.
     pub fn step_with(&mut self, events: &mut dyn EventHandler) {
+        self.advance_with(1, events);
+    }
+
+    /// Advances the simulation by `steps` time steps (also past the configured duration): an
+    /// epoch at a time, each in one parallel region. The same, to the bit, as `steps` calls of
+    /// [`Simulation::step`].
+    pub fn advance(&mut self, steps: u64) {
+        self.advance_with(steps, &mut ());
+    }
+
+    /// [`Simulation::advance`], reporting what happens to `events`, step by step: each step's
+    /// emission and impacts (in particle order), the failures found at an epoch's end, and the
+    /// step's end.
+    pub fn advance_with(&mut self, steps: u64, events: &mut dyn EventHandler) {
         let mut log = self.state.impact_log.take();
-        // Impacts are gathered in the parallel stage only as far as someone wants them.
+        // Impacts are gathered in the parallel region only as far as someone wants them.
         let capture = match &log {
-            _ if events.wants_impacts() => update::Capture::All,
-            Some(l) if l.wants_impacts() => update::Capture::Sampled { fraction: l.fraction, salt: l.salt },
-            _ => update::Capture::Nothing,
+            _ if events.wants_impacts() => kernel::Capture::All,
+            Some(l) if l.wants_impacts() => kernel::Capture::Sampled { fraction: l.fraction, salt: l.salt },
+            _ => kernel::Capture::Nothing,
         };
-        {
-            let mut none = ();
-            let log: &mut dyn EventHandler = match &mut log {
-                Some(l) => l,
-                None => &mut none,
-            };
-            let mut both = Both(log, events);
-            let time = self.time();
-            emit::run(&self.config, &self.plan, &mut self.state, &self.workers, &mut both);
-            let lazy = self.lazy();
-            let outcomes = update::run(
-                &self.config,
-                &self.plan,
-                &mut self.state,
-                &self.workers,
-                lazy,
-                self.lanes,
-                capture,
-            );
-            apply::run(&mut self.state, outcomes, &mut both);
-            layers::run(&self.config, &self.plan, &mut self.state, &mut both);
-            watch::run(&self.config, &mut self.state);
-            layers::grow_allowances(&self.config, &mut self.state, lazy);
-            if self.state.retired > COMPACT_MIN && self.state.retired * 4 > self.state.swarm.len() {
-                self.state.swarm.compact();
-                self.state.retired = 0;
-            }
-            self.state.step += 1;
-            both.step_end(time + self.config.dt);
+        let mut none = ();
+        let log_handler: &mut dyn EventHandler = match &mut log {
+            Some(l) => l,
+            None => &mut none,
+        };
+        let mut both = Both(log_handler, events);
+        let mut left = steps;
+        while left > 0 {
+            let k = left.min(self.steps_to_epoch_end());
+            let how = epoch::How { workers: &self.workers, capture, coasting: self.coasting };
+            epoch::run(&self.config, &self.plan, &mut self.state, &how, k, &mut both);
+            left -= k;
         }
         self.state.impact_log = log;
     }
 
-    /// With the exact integrator, flight is event-driven: a particle skips the steps in which it
-    /// certainly meets nothing, up to the step of its next event (see
-    /// [`crate::particles::Swarm::wake`]); on by default. Turning it off steps every particle
-    /// through every step, for comparison: results agree to rounding.
-    pub fn set_lazy_flight(&mut self, on: bool) {
-        self.lazy_flight = on;
-        if !on {
-            watch::wake_all(&self.config, &mut self.state);
+    /// Runs to the end of the configured duration, an epoch at a time, calling `progress` after
+    /// each epoch.
+    pub fn run(&mut self, mut progress: impl FnMut(&Simulation)) {
+        while !self.is_finished() {
+            self.advance(self.steps_to_epoch_end());
+            progress(self);
         }
     }
 
-    /// Chooses the instruction set of the free-flight kernel (see [`crate::motion::lanes`]): by
-    /// default the widest this processor runs. Results are bit-identical on every one; this is
-    /// for measuring what the lanes are worth.
-    pub fn set_lanes(&mut self, lanes: Lanes) {
-        self.lanes = lanes;
+    /// Steps from now to the end of the epoch under way: the next multiple of
+    /// [`SimulationConfig::layer_epoch`], or the run's last step if that comes first (at least
+    /// one).
+    pub fn steps_to_epoch_end(&self) -> u64 {
+        let (step, epoch) = (self.state.step, self.plan.epoch);
+        let next = (step / epoch + 1) * epoch;
+        let end = if step < self.plan.total_steps { next.min(self.plan.total_steps) } else { next };
+        end - step
     }
 
-    /// The instruction set the free-flight kernel runs on, on this processor.
-    pub fn lanes(&self) -> Lanes {
-        self.lanes.effective()
+    /// Steps per layer epoch.
+    pub fn epoch_steps(&self) -> u64 {
+        self.plan.epoch
     }
 
-    /// Heap memory (bytes) of what the event-driven flight keeps beside the swarm: the layer
-    /// nodes that sleeping particles watch (0 with the explicit integrators).
-    pub fn watch_bytes(&self) -> usize {
-        self.state.watches.heap_bytes()
-    }
-
-    fn lazy(&self) -> bool {
-        self.lazy_flight && self.config.motion.integrator == Integrator::Exact
+    /// Lets particles coast through the steps in which they certainly meet nothing (on by
+    /// default), or searches every step of every particle in full. Results are the same to the
+    /// bit either way: this is for verifying that, and for measuring what coasting saves.
+    pub fn set_coasting(&mut self, on: bool) {
+        self.coasting = on;
     }
 }

@@ -2,12 +2,12 @@
 
 use super::{Plan, Simulation, State, Workers};
 use crate::collision::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
-use crate::config::{SimulationConfig, TargetConfig};
-use crate::deposit::DepositSurface;
+use crate::config::{QUANTA_PER_PARTICLE, SimulationConfig, TargetConfig};
+use crate::deposit::{DepositSurface, Pending};
 use crate::events::ImpactLog;
 use crate::particles::{StreamKey, Swarm};
 use crate::tally::{PathTally, Tally};
-use crate::world::{ErosionMaps, Obstacle, Target};
+use crate::world::{ErosionMaps, Obstacle, Target, TargetTally};
 use std::sync::Arc;
 
 /// The simulation of a checked configuration, at time 0. `reuse` is a scene index from an
@@ -58,13 +58,14 @@ pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simu
     let steps_of = |interval: f64| (interval / c.dt).round().max(1.0) as u64;
     let plan = Plan {
         total_steps: c.total_steps(),
+        epoch: u64::from(c.layer_epoch.max(1)),
         key: StreamKey::new(c.seed),
         models,
         stages: c.layer_stages.iter().map(|s| (steps_of(s.interval), s.stage.clone())).collect(),
     };
     let state = State {
         step: 0,
-        swarm: Swarm::new(c.emitter.particle_volume as f32),
+        swarm: Swarm::new(QUANTA_PER_PARTICLE),
         retired: 0,
         spawn_carry: 0.0,
         nozzle: c.nozzle.clone(),
@@ -78,9 +79,10 @@ pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simu
         failures: Vec::new(),
         path: PathTally::default(),
         impact_log: (c.impact_log > 0.0).then(|| ImpactLog::new(c.impact_log, c.seed)),
-        watches: super::watch::Watches::new(c.targets.len()),
+        touched: vec![Vec::new(); c.targets.len()],
+        settled: 0,
     };
-    Simulation { config, plan, state, workers: Workers::Global, lazy_flight: true, lanes: Default::default() }
+    Simulation { config, plan, state, workers: Workers::Global, coasting: true }
 }
 
 /// A target's record at time 0: its surface bare (or as configured), nothing struck yet.
@@ -92,21 +94,14 @@ fn new_target(t: &TargetConfig, surface_id: SurfaceId, pieces: u32) -> Target {
         surface: t.surface.clone(),
         surface_id,
         pieces,
-        hits: 0,
-        stuck: Default::default(),
-        loose: Default::default(),
-        trapped: Default::default(),
-        at_risk: false,
-        delivered: Default::default(),
-        stuck_back: Default::default(),
-        received: Default::default(),
-        received_back: 0.0,
-        detached: Default::default(),
+        tally: TargetTally::default(),
         failure_mask: vec![0; cells],
+        at_risk: false,
         erosion: t.erosion.as_ref().map(|e| ErosionMaps {
             coating: vec![e.coating; cells],
             substrate: vec![0.0; cells],
             initial_coating: e.coating,
         }),
+        pending: Pending::new(cells, t.erosion.is_some()),
     }
 }

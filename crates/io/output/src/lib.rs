@@ -158,9 +158,7 @@ fn outputs_with(
         files.extend(target_files(t, sc)?);
     }
     if sc.output().export_particles {
-        let sw = sim.swarm();
-        let alive = |i: &usize| sw.flags[*i] & spraysim_engine::particles::flags::ALIVE != 0;
-        let points: Vec<_> = (0..sw.len()).filter(alive).map(|i| (sw.pos[i], sw.vel[i])).collect();
+        let points: Vec<_> = sim.in_flight().map(|(x, v, _)| (x, v)).collect();
         files.push(("particles.ply".into(), export::ply_points(&points)));
     }
     files.extend(extra);

@@ -154,6 +154,9 @@ fn config(sc: &Scenario) -> SimulationConfig {
         sag_threshold: p.sag_threshold,
         window: PathWindow { standoff: w.standoff, max_angle: w.max_angle, speed: w.speed },
         impact_log: sc.output().impact_log,
+        layer_epoch: (sc.simulation().layer_epoch / sc.simulation().dt)
+            .round()
+            .clamp(1.0, f64::from(u32::MAX)) as u32,
     }
 }
 

@@ -1,6 +1,6 @@
 //! Criterion benchmarks on the reference scene (see `spraysim_bench::ReferenceScene`): whole
-//! runs, so the figures include emission, the parallel update, the ordered apply stage and
-//! compaction.
+//! runs, so the figures include emission, the parallel flight through each layer epoch, the
+//! merge of its books and the settling of the layers.
 //!
 //! `cargo bench -p spraysim-bench` runs them; `spraysim bench` prints the scaling table.
 

@@ -7,7 +7,7 @@
 //! target/release/examples/profile [--euler] [--raster] [--rate R] [--duration T] [--resolution N] [-j THREADS] [--set KEY=VALUE]…
 //! ```
 //!
-//! By default: the event-driven engine (exact integrator) at 10⁶ particles/s for 0.5 s on
+//! By default: the exact integrator at 10⁶ particles/s for 0.5 s on
 //! every core; `--raster` runs the raster at 10⁵ particles/s unless `--rate` says otherwise;
 //! `--resolution` sets the reference wall's cells per side (1024 by default).
 

@@ -10,7 +10,7 @@
 
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::RectangleSurface;
-use spraysim_engine::motion::{Integrator, Lanes};
+use spraysim_engine::motion::Integrator;
 use spraysim_scenario::scenes::{NOZZLE_AT_WALL, bar, floor, integrator_word, wall};
 use spraysim_scenario::{Scenario, ScenarioError};
 use std::time::Instant;
@@ -54,6 +54,8 @@ pub struct ReferenceScene {
     pub dt: f64,
     /// Whether the rebar mesh stands in front of the wall.
     pub rebar: bool,
+    /// Length of a layer epoch, s (`None`: the scenarios' default).
+    pub layer_epoch: Option<f64>,
 }
 
 impl Default for ReferenceScene {
@@ -66,11 +68,17 @@ impl Default for ReferenceScene {
             integrator: Integrator::Euler,
             dt: 1e-3,
             rebar: true,
+            layer_epoch: None,
         }
     }
 }
 
 impl ReferenceScene {
+    /// Length of the scene's layer epoch, s.
+    pub fn epoch(&self) -> f64 {
+        self.layer_epoch.unwrap_or(spraysim_scenario::DEFAULT_LAYER_EPOCH)
+    }
+
     /// The scene as a scenario; an error names the knob that makes it invalid (a spawn rate
     /// or duration that is not a positive number, say).
     pub fn scenario(&self) -> Result<Scenario, ScenarioError> {
@@ -86,6 +94,7 @@ impl ReferenceScene {
             dt = {dt}
             integrator = "{integrator}"
             duration = {duration}
+            layer_epoch = {epoch}
             [process]
             preset = "shotcrete"
             max_lifetime = 3.0
@@ -98,6 +107,7 @@ impl ReferenceScene {
             "#,
             dt = self.dt,
             duration = self.duration,
+            epoch = self.epoch(),
             rate = self.spawn_rate,
             wall = wall().resolution(self.resolution, self.resolution),
             floor = floor().resolution(400, 300),
@@ -232,15 +242,13 @@ pub struct Measurement {
     pub sim_time: f64,
     /// Particle-steps: Σ over steps of the particles in flight at that step.
     pub particle_steps: u64,
-    /// Particle updates: the particle-steps actually worked (with the event-driven flight of
-    /// the exact integrator, a sleeping particle is not updated).
+    /// Particle updates: the particle-steps flown as full steps (an exact search for hits);
+    /// the others coasted through open space.
     pub particle_updates: u64,
     /// Particles that reached a final fate (stuck, left, expired).
     pub retired: u64,
     /// Particles still in flight at the end.
     pub in_flight: u64,
-    /// Heap memory of the event-driven flight's watches at the end, bytes.
-    pub watch_bytes: usize,
     /// Peak resident memory of the process so far, bytes (Linux; 0 elsewhere).
     pub peak_rss: u64,
 }
@@ -270,15 +278,8 @@ impl Measurement {
 
 /// Runs `scenario` to the end on `threads` threads (0: all cores) and times it.
 pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, BenchError> {
-    measure_on(scenario, threads, Lanes::default())
-}
-
-/// [`measure`] with the free-flight kernel on the instruction set `lanes` (or the portable
-/// one where this processor lacks it).
-pub fn measure_on(scenario: &Scenario, threads: usize, lanes: Lanes) -> Result<Measurement, BenchError> {
     let mut sim = scenario.build()?;
     sim.set_threads(threads)?;
-    sim.set_lanes(lanes);
     let start = Instant::now();
     sim.run(|_| {});
     let wall = start.elapsed().as_secs_f64();
@@ -290,7 +291,6 @@ pub fn measure_on(scenario: &Scenario, threads: usize, lanes: Lanes) -> Result<M
         particle_updates: sim.particle_updates(),
         retired: m.emitted.count - m.fates.in_flight.count,
         in_flight: m.fates.in_flight.count,
-        watch_bytes: sim.watch_bytes(),
         peak_rss: peak_rss(),
     })
 }
@@ -301,14 +301,12 @@ pub fn measure_on(scenario: &Scenario, threads: usize, lanes: Lanes) -> Result<M
 pub fn measure_median(
     scenario: &Scenario,
     threads: usize,
-    lanes: Lanes,
     repeats: usize,
 ) -> Result<Measurement, BenchError> {
     let s = scenario.simulation();
     let warm = scenario.with("simulation.duration", (0.1 * s.duration).max(s.dt))?;
-    measure_on(&warm, threads, lanes)?;
-    let runs =
-        (0..repeats.max(1)).map(|_| measure_on(scenario, threads, lanes)).collect::<Result<Vec<_>, _>>()?;
+    measure(&warm, threads)?;
+    let runs = (0..repeats.max(1)).map(|_| measure(scenario, threads)).collect::<Result<Vec<_>, _>>()?;
     median_by(runs, |r| r.wall).ok_or_else(|| BenchError::Settings("no timed run".into()))
 }
 
@@ -333,14 +331,16 @@ pub fn peak_rss() -> u64 {
 }
 
 /// What [`run_matrix`] runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct MatrixSettings {
     /// Particles emitted per second in the throughput runs.
     pub spawn_rate: f64,
     /// Simulated seconds per run.
     pub duration: f64,
-    /// Worker threads for the runs that do not vary it; 0 uses every core.
-    pub threads: usize,
+    /// Worker thread counts (0: every core). The runs that do not vary it use the largest;
+    /// with more than one, the reference scene and the raster are also timed on each (the
+    /// scaling table).
+    pub threads: Vec<usize>,
     /// Timed runs per row (after one untimed warm-up); the median is reported.
     pub repeats: usize,
     /// Short variants timed for the optimisation-loop figure.
@@ -351,29 +351,43 @@ pub struct MatrixSettings {
     pub measure_baseline: bool,
 }
 
-/// One row of the table: a name, a scene, a thread count and the free-flight kernel's lanes.
-type Row = (String, ReferenceScene, usize, Lanes);
+impl MatrixSettings {
+    /// The thread counts asked for, 0 replaced by this machine's cores.
+    fn thread_counts(&self) -> Vec<usize> {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let mut counts: Vec<usize> = self.threads.iter().map(|&t| if t == 0 { cores } else { t }).collect();
+        if counts.is_empty() {
+            counts.push(cores);
+        }
+        counts
+    }
+}
 
-/// The reference scene and its scaling variants.
+/// One row of the table: a name, a scene and a thread count.
+type Row = (String, ReferenceScene, usize);
+
+/// The reference scene and its scaling variants, on `all` threads unless named.
 fn variants(m: &MatrixSettings, all: usize) -> Vec<Row> {
     let base = ReferenceScene { spawn_rate: m.spawn_rate, duration: m.duration, ..ReferenceScene::default() };
     let exact = ReferenceScene { integrator: Integrator::Exact, ..base.clone() };
-    let widest = Lanes::default();
     vec![
-        (format!("reference, {all} threads"), base.clone(), all, widest),
-        ("reference, 1 thread".into(), base.clone(), 1, widest),
-        ("reference, portable lanes (no AVX2)".into(), base.clone(), all, Lanes::Portable),
+        (format!("reference, {all} threads"), base.clone(), all),
+        ("reference, 1 thread".into(), base.clone(), 1),
         (
             "spawn rate ×10".into(),
             ReferenceScene { spawn_rate: m.spawn_rate * 10.0, duration: m.duration / 10.0, ..base.clone() },
             all,
-            widest,
         ),
-        ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all, widest),
-        ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all, widest),
-        ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all, widest),
-        ("event-driven (exact integrator)".into(), exact.clone(), all, widest),
-        ("event-driven, Δt = 10 ms".into(), ReferenceScene { dt: 0.01, ..exact }, all, widest),
+        ("heightfield 256²".into(), ReferenceScene { resolution: 256, ..base.clone() }, all),
+        ("heightfield 2048²".into(), ReferenceScene { resolution: 2048, ..base.clone() }, all),
+        ("520 bars".into(), ReferenceScene { pieces_per_bar: 20, ..base.clone() }, all),
+        (
+            "layer epoch of one step".into(),
+            ReferenceScene { layer_epoch: Some(base.dt), ..base.clone() },
+            all,
+        ),
+        ("exact integrator".into(), exact.clone(), all),
+        ("exact integrator, Δt = 10 ms".into(), ReferenceScene { dt: 0.01, ..exact }, all),
     ]
 }
 
@@ -412,7 +426,8 @@ fn paper_baseline(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<f
 }
 
 /// Times the reference scene and its scaling variants and writes a Markdown table to `out`,
-/// then the 60 s raster, the cohesion analysis and the storage per particle.
+/// then, with several thread counts, the scaling table, then the 60 s raster, the short
+/// variants, the cohesion analysis and the storage per particle.
 pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(), BenchError> {
     // Refused before anything runs or prints.
     if !(m.spawn_rate.is_finite() && m.spawn_rate > 0.0) {
@@ -427,33 +442,32 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
             m.duration
         )));
     }
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let all = if m.threads == 0 { cores } else { m.threads };
+    let counts = m.thread_counts();
+    for &t in &counts {
+        spraysim_engine::check_threads(t)?;
+    }
+    let all = counts.iter().copied().max().unwrap_or(1);
     let runs = variants(m, all)
         .into_iter()
-        .map(|(name, scene, threads, lanes)| Ok((name, scene.scenario()?, threads, lanes)))
+        .map(|(name, scene, threads)| Ok((name, scene.scenario()?, threads)))
         .collect::<Result<Vec<_>, BenchError>>()?;
     let raster = raster_pass(1e5)?;
     let paper = paper_baseline(m, out)?;
     writeln!(
         out,
-        "reference scene, Δt = 1 ms, forward Euler, {:.0} particles/s for {} s unless noted; free-flight kernel on {:?} lanes unless noted; each row the median of {} timed runs after a warm-up\n",
+        "reference scene, Δt = 1 ms, forward Euler, layer epoch {} ms, {:.0} particles/s for {} s unless noted; each row the median of {} timed runs after a warm-up\n",
+        1e3 * ReferenceScene::default().epoch(),
         m.spawn_rate,
         m.duration,
-        Lanes::default().effective(),
         m.repeats
     )?;
     writeln!(
         out,
-        "| run | wall [s] | particle-steps/s | steps worked | particles/s to fate | × paper baseline | real-time factor | peak RSS [MiB] |"
+        "| run | wall [s] | particle-steps/s | full steps | particles/s to fate | × paper baseline | real-time factor | peak RSS [MiB] |"
     )?;
     writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|")?;
-    let mut watches = None;
-    for (name, scenario, threads, lanes) in runs {
-        let r = measure_median(&scenario, threads, lanes, m.repeats)?;
-        if scenario.simulation().integrator == Integrator::Exact && watches.is_none() {
-            watches = Some(r.watch_bytes as f64 / r.in_flight.max(1) as f64);
-        }
+    for (name, scenario, threads) in runs {
+        let r = measure_median(&scenario, threads, m.repeats)?;
         writeln!(
             out,
             "| {name} | {:.3} | {:.3e} | {:.1} % | {:.3e} | {:.1} | {:.3} | {:.0} |",
@@ -466,10 +480,13 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
             r.peak_rss as f64 / (1024.0 * 1024.0)
         )?;
     }
+    if counts.len() > 1 {
+        scaling(m, &counts, &raster, paper, out)?;
+    }
     let r = measure(&raster, all)?;
     writeln!(
         out,
-        "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s: {:.2} s wall time ({:.1}× real time)",
+        "\n60 s raster over the reference wall at 10⁵ particles/s, cohesion every 0.5 s, {all} threads: {:.2} s wall time ({:.1}× real time)",
         r.wall,
         r.real_time_factor()
     )?;
@@ -483,13 +500,42 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
     writeln!(out, "cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms")?;
     writeln!(
         out,
-        "particle storage: {} bytes per particle slot",
+        "particle storage: {} bytes per particle slot, everything included",
         spraysim_engine::particles::Swarm::BYTES_PER_PARTICLE
     )?;
-    if let Some(bytes) = watches {
+    Ok(())
+}
+
+/// The scaling table: the reference scene and the 60 s raster on each of `counts` threads,
+/// with the speed-up over the first count.
+fn scaling(
+    m: &MatrixSettings,
+    counts: &[usize],
+    raster: &Scenario,
+    paper: f64,
+    out: &mut impl std::io::Write,
+) -> Result<(), BenchError> {
+    let reference =
+        ReferenceScene { spawn_rate: m.spawn_rate, duration: m.duration, ..ReferenceScene::default() }
+            .scenario()?;
+    writeln!(
+        out,
+        "\n| threads | reference wall [s] | speed-up | × paper baseline | 60 s raster wall [s] | speed-up |"
+    )?;
+    writeln!(out, "|---:|---:|---:|---:|---:|---:|")?;
+    let mut first: Option<(f64, f64)> = None;
+    for &t in counts {
+        let r = measure_median(&reference, t, m.repeats)?;
+        let raster_wall = measure(raster, t)?.wall;
+        let (r0, s0) = *first.get_or_insert((r.wall, raster_wall));
         writeln!(
             out,
-            "event-driven flight's layer watches, beside the swarm: {bytes:.0} bytes per particle in flight (end of the exact-integrator reference run)"
+            "| {t} | {:.3} | {:.2}× | {:.1} | {:.2} | {:.2}× |",
+            r.wall,
+            r0 / r.wall,
+            r.particles_per_second() / paper,
+            raster_wall,
+            s0 / raster_wall
         )?;
     }
     Ok(())
@@ -504,7 +550,7 @@ mod tests {
         let m = MatrixSettings {
             spawn_rate: 1e4,
             duration,
-            threads: 1,
+            threads: vec![1],
             repeats: 1,
             variants: 1,
             measure_baseline,

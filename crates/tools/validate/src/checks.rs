@@ -59,7 +59,7 @@ pub fn cone_law(dir: &str, particles: f64, threads: usize) -> ConeLaw {
     let sim = run(&sc, threads);
     let m = sim.metrics();
     let floor = &sim.targets()[0];
-    let v = floor.stuck.volume;
+    let v = m.targets[0].stuck.volume;
     let n = m.emitted.count as f64;
     let half = half_deg.to_radians();
     let cos_c = half.cos();
@@ -104,7 +104,7 @@ pub fn cone_law(dir: &str, particles: f64, threads: usize) -> ConeLaw {
         sigma,
         chi2,
         emitted: m.emitted.count,
-        stuck: floor.stuck.count,
+        stuck: floor.tally.stuck.count,
         volumes: (m.emitted.volume, v),
     }
 }
@@ -246,9 +246,9 @@ pub fn landing_x(dt: f64, integrator: Integrator) -> f64 {
     while sim.swarm().alive() > 0 {
         sim.step();
     }
-    assert_eq!(sim.targets()[0].stuck.count, 1, "the shot must land on the floor");
+    assert_eq!(sim.targets()[0].tally.stuck.count, 1, "the shot must land on the floor");
     // The particle's last position is where it stuck.
-    sim.swarm().pos[0].x
+    sim.swarm().particles[0].anchor.x
 }
 
 /// Closed form of [`landing_x`]: x = v √(2h/g), m.

@@ -129,7 +129,7 @@ pub fn shell_cos3(particles: f64, threads: usize) -> CurvedLaw {
     let shell = &sim.targets()[0].surface;
     let (r, half) = (0.5, HALF_DEG.to_radians());
     let omega = 2.0 * PI * (1.0 - half.cos());
-    let v = sim.targets()[0].stuck.volume;
+    let v = m.targets[0].stuck.volume;
     let law = |c: u32| {
         let p = shell.point_above(c, 0.0);
         let dir = p.normalize();
@@ -190,7 +190,7 @@ pub fn sphere_cos3(particles: f64, threads: usize) -> CurvedLaw {
     let Surface::Mesh(mesh) = surface else { unreachable!("set above") };
     let half = HALF_DEG.to_radians();
     let omega = 2.0 * PI * (1.0 - half.cos());
-    let v = sim.targets()[0].stuck.volume;
+    let v = m.targets[0].stuck.volume;
     let inside = |t: &Triangle| t.corners.iter().all(|c| c.normalize().x >= half.cos());
     let law = |c: u32| {
         let t = &mesh.triangles()[c as usize];

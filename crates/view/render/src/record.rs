@@ -84,7 +84,19 @@ impl Recorder {
         self.view.describe()
     }
 
-    /// Renders what is due at `sim`'s time: call it before the first step and after each.
+    /// Steps from `sim`'s present to the one at whose end the next still or frame is due, if
+    /// any: a run that advances several steps at a time stops there.
+    pub fn steps_to_next(&self, sim: &Simulation) -> Option<u64> {
+        let due = match (self.stills.first().copied(), self.frame_times.first().copied()) {
+            (Some(a), Some(b)) => a.min(b),
+            (a, b) => a.or(b)?,
+        };
+        // A view is drawn at the first step end within half a step of its time.
+        Some(((due - sim.time()) / self.dt - 0.5).ceil().max(1.0) as u64)
+    }
+
+    /// Renders what is due at `sim`'s time: call it before the first step and after each (or
+    /// after each run of steps that stops at [`Recorder::steps_to_next`]).
     pub fn observe(&mut self, sim: &Simulation) -> Result<(), RenderError> {
         let due = sim.time() + self.dt / 2.0;
         if self.stills.first().is_none_or(|&t| t > due) && self.frame_times.first().is_none_or(|&t| t > due) {

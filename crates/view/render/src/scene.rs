@@ -555,21 +555,22 @@ fn particles(sim: &Simulation, opts: &SceneOptions, vmax: f64) -> (Vec<ColorVert
     let keep = opts.max_particles as f64 / in_flight as f64;
     let speed_map = Colormap::Turbo;
     let mut out = Vec::with_capacity(in_flight.min(opts.max_particles));
-    for i in 0..s.len() {
-        let f = s.flags[i];
-        if f & flags::ALIVE == 0 || (keep < 1.0 && !sampled(s.id[i], keep)) {
+    for (i, p) in s.particles.iter().enumerate() {
+        let f = p.flags();
+        if f & flags::ALIVE == 0 || (keep < 1.0 && !sampled(p.id, keep)) {
             continue;
         }
+        let (position, velocity, _) = sim.particle_now(i);
         let color = match opts.particles {
             ParticleColoring::State if f & flags::RELEASED != 0 => RELEASED,
-            ParticleColoring::State if f & flags::HIT_SUBSTRATE != 0 || s.impacts[i] > 0 => REBOUNDED,
+            ParticleColoring::State if f & flags::HIT_SUBSTRATE != 0 || p.impacts() > 0 => REBOUNDED,
             ParticleColoring::State => FLYING,
             ParticleColoring::Speed => {
-                let c = heatmap::color(speed_map, s.vel[i].length() / vmax).0;
+                let c = heatmap::color(speed_map, velocity.length() / vmax).0;
                 [c[0], c[1], c[2], 255]
             }
         };
-        out.push(ColorVertex::new(s.pos[i], color));
+        out.push(ColorVertex::new(position, color));
     }
     (out, in_flight)
 }

@@ -130,8 +130,8 @@ fn particles_show_mid_spray_and_not_once_the_spray_has_ended_and_settled() {
     assert!(particle_pixels(&img) > 200, "{} particle pixels mid-spray", particle_pixels(&img));
     assert!(changed > 200, "particles change {changed} pixels");
     // A particle in flight lands on its projected pixel (or an occluder's).
-    let i = (0..mid.swarm().len()).find(|&i| mid.swarm().flags[i] & 1 != 0).expect("one in flight");
-    assert!(cam.project(mid.swarm().pos[i], W, H).is_some());
+    let (position, _, _) = mid.in_flight().next().expect("one in flight");
+    assert!(cam.project(position, W, H).is_some());
 
     let end = run_to(&sc, 1.5);
     assert_eq!(end.swarm().alive(), 0, "everything has settled");

@@ -9,7 +9,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let settings = spraysim_bench::MatrixSettings {
         spawn_rate: args.spawn_rate,
         duration: args.duration,
-        threads: args.threads,
+        threads: args.threads.clone(),
         repeats: args.repeats as usize,
         variants: args.variants as usize,
         measure_baseline: !args.recorded_baseline,

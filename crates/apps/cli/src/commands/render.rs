@@ -42,7 +42,8 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     );
     rec.observe(&sim)?;
     while !sim.is_finished() {
-        sim.step();
+        let k = rec.steps_to_next(&sim).map_or(sim.steps_to_epoch_end(), |k| k.min(sim.steps_to_epoch_end()));
+        sim.advance(k);
         rec.observe(&sim)?;
         bar.set_position(sim.steps_done());
         bar.set_message(format!("{:.3} s, {} in flight", sim.time(), sim.swarm().alive()));

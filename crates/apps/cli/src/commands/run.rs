@@ -94,9 +94,17 @@ fn execute(
     let (start, redraw) = (Instant::now(), (sim.total_steps() / 200).max(1));
     recorder.observe(&sim)?;
     while !sim.is_finished() && !control::stop_requested() {
-        sim.step();
+        // An epoch at a time, stopping where a checkpoint, a view or a pause point is due.
+        let now = sim.steps_done();
+        let stops = [
+            every.map(|k| k - now % k),
+            recorder.steps_to_next(&sim),
+            control::next_pause(now).map(|s| s - now),
+        ];
+        let k = stops.into_iter().flatten().fold(sim.steps_to_epoch_end(), u64::min);
+        sim.advance(k);
         recorder.observe(&sim)?;
-        if sim.steps_done().is_multiple_of(redraw) || sim.is_finished() {
+        if sim.steps_done() / redraw > now / redraw || sim.is_finished() {
             show_progress(&bar, &sim, start);
         }
         if let Some(k) = every.filter(|&k| sim.steps_done().is_multiple_of(k) && !sim.is_finished()) {

@@ -14,6 +14,18 @@ pub struct Plane {
     pub normal: DVec3,
 }
 
+impl Plane {
+    /// The least and the greatest signed distance (m, along the normal) of the points of box
+    /// `b` from the plane.
+    pub fn signed_range(&self, b: &Aabb) -> (f64, f64) {
+        let centre = 0.5 * (b.min + b.max);
+        let half = 0.5 * (b.max - b.min);
+        let d = (centre - self.point).dot(self.normal);
+        let reach = half.dot(self.normal.abs());
+        (d - reach, d + reach)
+    }
+}
+
 impl Primitive for Plane {
     #[inline]
     fn intersect(&self, p0: DVec3, p1: DVec3) -> Option<Hit> {

@@ -70,7 +70,7 @@ impl HeightField {
     }
 
     /// The segment's footprint: the columns and the rows of cells between its ends.
-    fn footprint(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> ((usize, usize), (usize, usize)) {
+    fn segment_cells(&self, chart: &impl Chart, p0: DVec3, p1: DVec3) -> ((usize, usize), (usize, usize)) {
         let ((c0, r0), (c1, r1)) = (self.cell_of(chart, p0), self.cell_of(chart, p1));
         ((c0.min(c1), c0.max(c1)), (r0.min(r1), r0.max(r1)))
     }
@@ -135,7 +135,7 @@ impl HeightField {
         skip: bool,
     ) -> Option<LayerContact> {
         let sag = chart.sag(p0, p1);
-        let (cols, rows) = self.footprint(chart, p0, p1);
+        let (cols, rows) = self.segment_cells(chart, p0, p1);
         if h0.min(h1) - sag > self.bounds.max_in(&self.thickness, cols, rows) {
             return None;
         }

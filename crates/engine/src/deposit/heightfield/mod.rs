@@ -236,9 +236,9 @@ impl HeightField {
     }
 
     /// Counts one impact in `cell`.
-    pub fn add_hit(&mut self, cell: u32) {
+    pub fn add_hits(&mut self, cell: u32, n: u32) {
         let h = &mut self.hits[cell as usize];
-        *h = h.saturating_add(1);
+        *h = h.saturating_add(n);
     }
 
     /// An upper bound of every cell's thickness, m.

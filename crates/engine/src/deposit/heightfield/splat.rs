@@ -23,41 +23,35 @@ pub(super) fn footprint((dx, dy): (f64, f64), radius: f64) -> (Vec<(isize, isize
 }
 
 impl HeightField {
-    /// Deposits `volume` (m³) centred on `cell`. The volume is shared evenly over the splat
-    /// footprint's cells inside the grid, so Σ thickness × cell area grows by exactly `volume`
-    /// (up to rounding), at the edges too.
-    pub fn deposit(&mut self, cell: u32, volume: f64) {
+    /// Calls `visit` with `cell`, then each other cell of the splat footprint around it that
+    /// lies inside the grid and is not cut away, in the footprint's fixed order: the cells a
+    /// deposit struck at `cell` is shared among, evenly.
+    pub fn footprint(&self, cell: u32, visit: &mut dyn FnMut(u32)) {
         let (cols, rows) = (self.cols as isize, self.rows as isize);
         let (row, col) = (cell as isize / cols, cell as isize % cols);
-        // The struck cell always takes its share (it is never a hole when struck).
-        let hole = std::mem::take(&mut self.hole);
-        let (ncols, wrap) = (self.cols, self.wrap);
-        let target = |i: isize, j: isize| {
-            let c = column_of(col + i, ncols, wrap).filter(|_| (0..rows).contains(&(row + j)))?;
-            let k = (row + j) as usize * ncols + c;
-            ((i, j) == (0, 0) || !hole.get(k).copied().unwrap_or(false)).then_some(k)
-        };
-        let n = self.splat.iter().filter(|&&(i, j)| target(i, j).is_some()).count();
-        let added = volume / (n as f64 * self.cell_area());
-        // The block sums are brought up to date once over the footprint's rectangle, or cell by
-        // cell where it wraps round a periodic grid.
-        let wraps = wrap && self.splat.iter().any(|&(i, _)| !(0..cols).contains(&(col + i)));
-        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
-        for k in 0..self.splat.len() {
-            let (i, j) = self.splat[k];
-            let Some(c) = target(i, j) else { continue };
-            self.thickness[c] += added;
-            self.raise_bounds(c, self.thickness[c]);
-            self.mark(c);
-            let (cc, cr) = (c % ncols, c / ncols);
-            if wraps {
-                self.sums.refresh(&self.thickness, &hole, (cc, cc), (cr, cr));
+        // The struck cell always takes its share (it is never a hole when struck), first.
+        visit(cell);
+        for &(i, j) in self.splat.iter().filter(|&&o| o != (0, 0)) {
+            let Some(c) = column_of(col + i, self.cols, self.wrap).filter(|_| (0..rows).contains(&(row + j)))
+            else {
+                continue;
+            };
+            let k = (row + j) as usize * self.cols + c;
+            if !self.hole.get(k).copied().unwrap_or(false) {
+                visit(k as u32);
             }
-            (lo, hi) = ((lo.0.min(cc), lo.1.min(cr)), (hi.0.max(cc), hi.1.max(cr)));
         }
-        self.hole = hole;
-        if !wraps && lo.0 <= hi.0 {
-            self.refresh_sums((lo.0, hi.0), (lo.1, hi.1));
+    }
+
+    /// Deposits `volume` (m³) centred on `cell`: shared evenly over its
+    /// [footprint](Self::footprint), so Σ thickness × cell area grows by exactly `volume` (up to
+    /// rounding), at the edges too.
+    pub fn deposit(&mut self, cell: u32, volume: f64) {
+        let mut cells = Vec::with_capacity(self.splat.len());
+        self.footprint(cell, &mut |c| cells.push(c));
+        let added = volume / (cells.len() as f64 * self.cell_area());
+        for c in cells {
+            self.add(c, added);
         }
     }
 }

@@ -10,7 +10,7 @@ pub use drip::DripStage;
 pub use slump::{Relaxation, RunOff, SlumpStage, relax};
 
 use crate::events::FailureEvent;
-use crate::particles::{Swarm, flags};
+use crate::particles::{Particle, Swarm, flags};
 use crate::tally::Tally;
 use crate::world::Target;
 use glam::DVec3;
@@ -60,6 +60,10 @@ pub struct Releaser<'a> {
     pub(crate) swarm: &'a mut Swarm,
     pub(crate) tally: &'a mut Tally,
     pub(crate) next_id: &'a mut u64,
+    /// The step the released particles are born in: the first of the next epoch.
+    pub(crate) born: u32,
+    /// The run's volume quantum, m³ (see [`crate::SimulationConfig::volume_quantum`]).
+    pub(crate) quantum: f64,
 }
 
 impl Releaser<'_> {
@@ -75,18 +79,23 @@ impl Releaser<'_> {
     }
 
     /// Releases `volume` (m³), already taken off `target`'s layer, as one particle at `pos` (m)
-    /// moving at `vel` (m/s).
+    /// moving at `vel` (m/s). It carries the volume in whole quanta, rounded once.
     pub fn emit(&mut self, target: &mut Target, pos: DVec3, vel: DVec3, volume: f64, why: Release) {
         let bits = flags::ALIVE | flags::RELEASED | flags::HIT_SUBSTRATE;
+        let quanta = {
+            let q = volume / self.quantum;
+            if q.is_finite() && q > 0.0 { q.round() as u64 } else { 0 }
+        };
         // Validation bounds a run's particle count by 2³², so the id fits.
-        self.swarm.push_released(pos, vel, volume as f32, *self.next_id as u32, bits);
+        let particle = Particle::new(pos, vel, self.born, *self.next_id as u32, bits);
+        self.swarm.push_released(particle, quanta);
         *self.next_id += 1;
-        self.tally.released.add(f64::from(volume as f32));
+        self.tally.released.add(quanta);
         match why {
-            Release::Drip => self.tally.dripped.add(volume),
-            Release::RunOff => self.tally.ran_off.add(volume),
+            Release::Drip => self.tally.dripped.add(quanta),
+            Release::RunOff => self.tally.ran_off.add(quanta),
             Release::Failure => {}
         }
-        target.detached.add(volume);
+        target.tally.detached.add(quanta);
     }
 }

@@ -36,7 +36,7 @@ pub use rebound::{
     AlwaysLaw, CushionLaw, NeverLaw, PolynomialLaw, ReboundParams, SHOTCRETE_REBOUND_POLYNOMIAL,
 };
 pub use render::{ParticleColoring, RenderCamera, RenderParams, RenderTime, ViewPreset, point_size};
-pub use run::{Colormap, DomainParams, ExportFormat, OutputParams, SimulationParams};
+pub use run::{Colormap, DEFAULT_LAYER_EPOCH, DomainParams, ExportFormat, OutputParams, SimulationParams};
 pub(crate) use targets::RasterChart;
 pub use targets::{
     CylinderTarget, Edges, MeshSide, MeshTarget, OpeningParams, RectangleTarget, ShellSide, TargetParams,
