@@ -271,7 +271,7 @@ pub struct ObstacleMetrics {
 pub struct Metrics {
     /// Simulated time, s.
     pub time: f64,
-    /// Steps taken.
+    /// Time steps of Δt taken so far.
     pub steps: u64,
     /// Particles emitted.
     pub emitted: Amount,
@@ -296,7 +296,7 @@ pub struct Metrics {
     pub targets: Vec<TargetMetrics>,
     /// Per obstacle, in scenario order.
     pub obstacles: Vec<ObstacleMetrics>,
-    /// Cohesive failures.
+    /// The cohesive failures so far, and the material the layer stages released.
     pub failures: FailureMetrics,
     /// Where the emitted volume is.
     pub volume_balance: VolumeBalance,

@@ -36,7 +36,7 @@ pub struct Pending {
 pub struct Gathered {
     /// Volume deposited, quanta of the run's volume quantum.
     pub quanta: u64,
-    /// Impacts.
+    /// Impacts centred on the cell in the epoch under way.
     pub hits: u32,
     /// Coating and substrate wear, [`WEAR_QUANTUM`]s.
     pub wear: [u64; 2],

@@ -21,7 +21,7 @@ pub(super) struct Births {
     pub step: u64,
     /// The first one's id; the others follow.
     pub first: u64,
-    /// How many.
+    /// Particles the nozzle spawns in this step, ids `first .. first + count`.
     pub count: u64,
     /// The nozzle's pose in that step.
     pub frame: NozzleFrame,

@@ -47,16 +47,16 @@ const MAX_SINCE: u16 = 60_000;
 /// Which impacts a flight gathers as events.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Capture {
-    /// None.
+    /// No impact is gathered.
     Nothing,
     /// Those the impact log samples.
     Sampled {
-        /// Share kept.
+        /// Share of impacts kept, in [0, 1].
         fraction: f64,
         /// Salt of the hash.
         salt: u64,
     },
-    /// Every impact.
+    /// Every impact is gathered.
     All,
 }
 

@@ -326,7 +326,7 @@ impl Simulation {
         &self.state.obstacles
     }
 
-    /// Running totals.
+    /// The run's totals so far: particles and volume per fate, first substrate impacts.
     pub fn tally(&self) -> &Tally {
         &self.state.tally
     }

@@ -10,7 +10,7 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 #[error("{path}: {message}")]
 pub struct MeshError {
-    /// The file.
+    /// Path of the mesh file, as the scenario gives it.
     pub path: String,
     /// What is wrong.
     pub message: String,

@@ -228,7 +228,7 @@ pub struct Evaluation {
 /// The outcome of a calibration.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Calibration {
-    /// Parameters fitted.
+    /// The parameters fitted, in the order of `initial` and `fitted`.
     pub params: Vec<FitParam>,
     /// Their values at the start, in the parameters' units.
     pub initial: Vec<f64>,
@@ -238,7 +238,7 @@ pub struct Calibration {
     pub initial_errors: ProfileErrors,
     /// Errors at the fitted values.
     pub errors: ProfileErrors,
-    /// Simulations run.
+    /// Simulations run by the fit, each one evaluation of the error.
     pub evaluations: usize,
     /// Nelder–Mead iterations.
     pub iterations: u64,

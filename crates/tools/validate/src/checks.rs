@@ -414,7 +414,7 @@ pub fn restitution(restitution: f64, scatter: f64, n: u64) -> Restitution {
 /// Material accounting of one run.
 #[derive(Clone, Debug)]
 pub struct Balance {
-    /// Scene name.
+    /// Name of the scene whose volume balance this is.
     pub name: String,
     /// Emitted particles.
     pub emitted: u64,

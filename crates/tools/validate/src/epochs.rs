@@ -108,7 +108,7 @@ pub const TOLERANCE_OF_SCATTER: f64 = 0.5;
 /// How one figure of an epoch length compares with the reference, seed by seed.
 #[derive(Clone, Debug)]
 pub struct Comparison {
-    /// The figure.
+    /// Name of the figure compared, as in the report's table.
     pub name: &'static str,
     /// Mean shift from the reference over the seeds, in the figure's unit.
     pub shift: f64,

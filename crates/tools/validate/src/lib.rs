@@ -22,7 +22,7 @@ use std::path::Path;
 /// One check's outcome: what was compared, how, and whether it passed.
 #[derive(Clone, Debug)]
 pub struct Verdict {
-    /// Check name.
+    /// What the check tests, as the report's verdict line names it.
     pub name: String,
     /// The statistic, as measured.
     pub statistic: String,

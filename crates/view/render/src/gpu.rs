@@ -33,11 +33,11 @@ impl Default for GpuOptions {
 
 /// An adapter and the device opened on it.
 pub struct Gpu {
-    /// The adapter.
+    /// The graphics adapter (the GPU, or a software driver such as lavapipe) the device runs on.
     pub adapter: wgpu::Adapter,
-    /// The device.
+    /// The logical device that owns every buffer, texture and pipeline of the renderer.
     pub device: wgpu::Device,
-    /// Its queue.
+    /// The device's command queue, to which every frame is submitted.
     pub queue: wgpu::Queue,
 }
 
@@ -509,7 +509,7 @@ pub struct FrameTime {
     pub scene: f64,
     /// Uploading, drawing and reading the image back, s (median of the runs).
     pub draw: f64,
-    /// The adapter.
+    /// Name and backend of the adapter the frames were drawn on.
     pub adapter: String,
 }
 

@@ -244,7 +244,7 @@ pub struct Framing {
 /// Facts about the view for its caption.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Caption {
-    /// Scenario name.
+    /// First line of the caption: the scenario's name.
     pub title: String,
     /// Simulated time, s.
     pub time: f64,
