@@ -209,3 +209,31 @@ fn the_readme_is_a_front_page() {
         assert!(first.contains(must), "the README's first screen lacks {must:?}");
     }
 }
+
+/// The README's test command is the line `.ci/run` runs, and it builds only the core: nothing
+/// in the dependency tree of the workspace's default members (normal, dev and build
+/// dependencies) is wgpu, eframe or pyo3.
+#[test]
+fn the_readme_test_command_is_what_ci_runs_and_builds_no_gpu_window_or_python_crate() {
+    let readme = std::fs::read_to_string(format!("{ROOT}/README.md")).expect("README.md");
+    let command = readme
+        .lines()
+        .find(|l| l.starts_with("cargo test"))
+        .and_then(|l| l.split('#').next())
+        .map(str::trim)
+        .expect("the README gives a test command");
+    let ci = std::fs::read_to_string(format!("{ROOT}/.ci/run")).expect(".ci/run");
+    assert!(ci.lines().any(|l| l.trim() == command), ".ci/run does not run the README's `{command}`");
+    let tree = std::process::Command::new(env!("CARGO"))
+        .args(["tree", "--offline", "-e", "normal,dev,build", "--prefix", "none", "--format", "{p}"])
+        .current_dir(ROOT)
+        .output()
+        .expect("cargo tree runs");
+    assert!(tree.status.success(), "cargo tree: {}", String::from_utf8_lossy(&tree.stderr));
+    let tree = String::from_utf8_lossy(&tree.stdout);
+    let heavy: Vec<&str> = tree
+        .lines()
+        .filter(|l| ["wgpu ", "eframe ", "pyo3 "].iter().any(|name| l.starts_with(name)))
+        .collect();
+    assert!(heavy.is_empty(), "the core's test build pulls in {heavy:?}");
+}

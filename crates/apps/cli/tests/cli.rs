@@ -261,7 +261,7 @@ fn render_writes_the_stills_asked_for_and_run_writes_its_views_with_its_outputs(
         tmp.path(),
     );
     if !o.status.success() && stderr(&o).contains("no graphics adapter") && std::env::var_os("CI").is_none() {
-        return eprintln!("skipped: {}", stderr(&o));
+        return common::skip(&stderr(&o));
     }
     assert!(o.status.success(), "{}", stderr(&o));
     for name in ["view_0.020s.png", "view_end.png"] {

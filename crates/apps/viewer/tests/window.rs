@@ -7,6 +7,14 @@
 
 use std::process::Command;
 
+/// Says in the test output that a test cannot run here, and why. Written straight to the
+/// standard error, which the test harness does not capture (it captures `eprintln!`), so that
+/// the note shows without `--nocapture`.
+fn skip(reason: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {reason}");
+}
+
 fn have(program: &str) -> bool {
     Command::new("sh")
         .arg("-c")
@@ -19,7 +27,7 @@ fn have(program: &str) -> bool {
 fn the_window_runs_a_scene_under_xvfb_and_takes_a_screenshot() {
     if !have("xvfb-run") {
         assert!(std::env::var_os("CI").is_none(), "CI must run the window test: xvfb-run is missing");
-        return eprintln!("skipped: xvfb-run is not installed");
+        return skip("xvfb-run is not installed");
     }
     let tmp = tempfile::tempdir().expect("tempdir");
     let shot = tmp.path().join("window.png");

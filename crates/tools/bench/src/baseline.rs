@@ -213,6 +213,14 @@ fn program(dir: &Path) -> std::path::PathBuf {
 
 #[cfg(test)]
 mod tests {
+
+    /// Says in the test output that a test cannot run here, and why. Written straight to the
+    /// standard error, which the test harness does not capture (it captures `eprintln!`), so that
+    /// the note shows without `--nocapture`.
+    fn skip(reason: &str) {
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), "skipped: {reason}");
+    }
     use super::*;
 
     const PRINTED: &str = "steps 500\nparticle_steps 30159707\nemitted 500000\nadhered_wall 293007\n\
@@ -287,7 +295,7 @@ mod tests {
         let baseline = match Baseline::build() {
             Ok(b) => b,
             Err(BaselineError::NoCompiler { tried }) => {
-                eprintln!("skipped: no C++ compiler ({tried})");
+                skip(&format!("no C++ compiler ({tried})"));
                 return;
             }
             Err(e) => panic!("{e}"),

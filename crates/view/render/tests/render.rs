@@ -17,6 +17,14 @@ use spraysim_render::{Camera, Offscreen, Scene, SceneOptions, Show, ViewPreset};
 const W: u32 = 640;
 const H: u32 = 400;
 
+/// Says in the test output that a test cannot run here, and why. Written straight to the
+/// standard error, which the test harness does not capture (it captures `eprintln!`), so that
+/// the note shows without `--nocapture`.
+fn skip(reason: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {reason}");
+}
+
 /// An offscreen view on the software Vulkan driver (GL if Vulkan is missing), one sample per
 /// pixel; `None` (with a note) when there is no adapter outside CI.
 fn view(samples: u32) -> Option<Offscreen> {
@@ -28,7 +36,7 @@ fn view(samples: u32) -> Option<Offscreen> {
         }
     }
     assert!(std::env::var_os("CI").is_none(), "CI must render: {last}");
-    eprintln!("skipped: {last}");
+    skip(&last);
     None
 }
 
@@ -203,7 +211,7 @@ fn a_recording_writes_its_stills_frames_and_animation() {
         Ok(r) => r,
         Err(e) => {
             assert!(std::env::var_os("CI").is_none(), "CI must render: {e}");
-            return eprintln!("skipped: {e}");
+            return skip(&e.to_string());
         }
     };
     let mut sim = sc.build().expect("builds");

@@ -15,6 +15,14 @@ pub fn spraysim(args: &[&str], cwd: &Path) -> Output {
         .expect("spraysim starts")
 }
 
+/// Says in the test output that a test cannot run here, and why. Written straight to the
+/// standard error, which the test harness does not capture (it captures `eprintln!`), so that
+/// the note shows without `--nocapture`.
+pub fn skip(reason: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {reason}");
+}
+
 /// What a run printed on stderr.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -210,6 +210,14 @@ pub(crate) fn create_fresh<T>(
 
 #[cfg(test)]
 mod tests {
+
+    /// Says in the test output that a test cannot run here, and why. Written straight to the
+    /// standard error, which the test harness does not capture (it captures `eprintln!`), so that
+    /// the note shows without `--nocapture`.
+    fn skip(reason: &str) {
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), "skipped: {reason}");
+    }
     use super::*;
 
     #[test]
@@ -271,7 +279,7 @@ mod tests {
         let fifo = tmp.path().join("list");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if !made.is_ok_and(|s| s.success()) {
-            eprintln!("skipped: mkfifo is not available");
+            skip("mkfifo is not available");
             return;
         }
         assert_eq!(read_small(&fifo, 1024), None);
