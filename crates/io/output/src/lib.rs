@@ -10,6 +10,7 @@ pub mod checkpoint;
 pub mod directory;
 pub mod export;
 pub mod heatmap;
+mod maps;
 pub mod text;
 
 pub use directory::{CommitHooks, CommitPoint, FILE_LIST, NoHooks, OutputDir, STAGING_PREFIX};
@@ -17,7 +18,7 @@ pub use directory::{CommitHooks, CommitPoint, FILE_LIST, NoHooks, OutputDir, STA
 use ndarray::{ArrayViewD, IxDyn};
 use spraysim_engine::Simulation;
 use spraysim_engine::collision::SurfaceKind;
-use spraysim_engine::deposit::{DepositSurface, Layout, MapAxis};
+use spraysim_engine::deposit::{DepositSurface, Layout};
 use spraysim_scenario::{ExportFormat, Scenario};
 use std::path::{Path, PathBuf};
 
@@ -155,7 +156,7 @@ fn outputs_with(
         files.push(("impacts.csv".into(), impact_csv(sim).into_bytes()));
     }
     for t in sim.targets() {
-        files.extend(target_files(t, sc)?);
+        files.extend(target_files(t, sim.targets(), sc)?);
     }
     if sc.output().export_particles {
         let points: Vec<_> = sim.in_flight().map(|(x, v, _)| (x, v)).collect();
@@ -168,9 +169,11 @@ fn outputs_with(
     Ok(files)
 }
 
-/// The arrays, heatmaps and 3D files of one target.
+/// The arrays, heatmaps and 3D files of one target (`all`: every target of the run, `t` among
+/// them, which its maps may point to).
 fn target_files(
     t: &spraysim_engine::world::Target,
+    all: &[spraysim_engine::world::Target],
     sc: &Scenario,
 ) -> Result<Vec<(String, Vec<u8>)>, OutputError> {
     let mut files = Vec::new();
@@ -202,8 +205,8 @@ fn target_files(
             }
         }
     }
-    if let (true, Layout::Grid { rows, cols, axes, .. }) = (sc.output().images, &layout) {
-        for (what, img) in heatmaps(t, sc, &thickness, (*rows, *cols), axes) {
+    if sc.output().images {
+        for (what, img) in maps::target_maps(t, all, sc, &thickness) {
             let n = name(what, "png");
             files.push((n.clone(), png_bytes(&img, Path::new(&n))?));
         }
@@ -222,89 +225,6 @@ fn target_files(
         }
     }
     Ok(files)
-}
-
-/// The heatmaps of one target, by what they show; a map with nothing to show (no deposit, no
-/// wear, nothing at risk) is not drawn. `thickness` is NaN where the surface is cut away.
-fn heatmaps(
-    t: &spraysim_engine::world::Target,
-    sc: &Scenario,
-    thickness: &[f64],
-    (rows, cols): (usize, usize),
-    axes: &[MapAxis; 2],
-) -> Vec<(&'static str, image::RgbImage)> {
-    let map = sc.output().colormap;
-    let max = thickness.iter().copied().fold(0.0, f64::max);
-    let scale = heatmap::Scale::thickness(max);
-    let grid = heatmap::Grid { values: thickness, cols, rows, marks: None, axes: Some(axes) };
-    let mut out = Vec::new();
-    if max > 0.0 {
-        out.push(("thickness", heatmap::render(&grid, &format!("{}: thickness", t.name), &scale, map)));
-    }
-    // Impacts per cm², the map a blasting jet leaves.
-    let hits: Vec<f64> = (0..thickness.len())
-        .map(|c| {
-            let area = t.surface.cell_area(c as u32);
-            if area > 0.0 { f64::from(t.surface.hits()[c]) / (area * 1e4) } else { f64::NAN }
-        })
-        .collect();
-    let grid_hits = heatmap::Grid { values: &hits, ..grid };
-    let scale_hits = heatmap::Scale::count("impacts [1/cm²]");
-    out.push(("hits", heatmap::render(&grid_hits, &format!("{}: impacts", t.name), &scale_hits, map)));
-    if let Some(e) = &t.erosion {
-        out.extend(erosion_maps(t, e, &grid, map));
-    }
-    let process = sc.process();
-    if max > 0.0 && process.sag_threshold > 0.0 {
-        let risk = t.sag_risk(process.sag_threshold);
-        if risk.iter().any(|&r| r > 0) {
-            let grid = heatmap::Grid { marks: Some(&risk), ..grid };
-            out.push(("sag", heatmap::render(&grid, &format!("{}: sag risk (orange)", t.name), &scale, map)));
-        }
-    }
-    if max > 0.0 && process.cohesion.interval > 0.0 && t.failure_mask.iter().any(|&m| m > 0) {
-        let grid = heatmap::Grid { marks: Some(&t.failure_mask), ..grid };
-        let title = format!("{}: failed (red), at risk (orange)", t.name);
-        out.push(("failure", heatmap::render(&grid, &title, &scale, map)));
-    }
-    out
-}
-
-/// The substrate's wear and the coating left, where there is something to show, on the cells
-/// of `like` (its size, axes and cut-away cells).
-fn erosion_maps(
-    t: &spraysim_engine::world::Target,
-    e: &spraysim_engine::world::ErosionMaps,
-    like: &heatmap::Grid<'_>,
-    map: spraysim_scenario::Colormap,
-) -> Vec<(&'static str, image::RgbImage)> {
-    let mut out = Vec::new();
-    let cut = |v: &[f64]| -> Vec<f64> {
-        v.iter().zip(like.values).map(|(&x, &t)| if t.is_nan() { f64::NAN } else { x }).collect()
-    };
-    let deepest = e.substrate.iter().copied().fold(0.0, f64::max);
-    if deepest > 0.0 {
-        let mut scale = heatmap::Scale::thickness(deepest);
-        scale.label = scale.label.replace("thickness", "substrate worn");
-        let values = cut(&e.substrate);
-        let grid = heatmap::Grid { values: &values, ..*like };
-        out.push(("erosion", heatmap::render(&grid, &format!("{}: substrate wear", t.name), &scale, map)));
-    }
-    if e.initial_coating > 0.0 {
-        let mut scale = heatmap::Scale::thickness(e.initial_coating);
-        scale.label = scale.label.replace("thickness", "coating left");
-        let values = cut(&e.coating);
-        let grid = heatmap::Grid { values: &values, ..*like };
-        let img = heatmap::render_range(
-            &grid,
-            &format!("{}: coating left", t.name),
-            &scale,
-            map,
-            e.initial_coating,
-        );
-        out.push(("coating", img));
-    }
-    out
 }
 
 /// The impact log as CSV: one sampled impact a row.

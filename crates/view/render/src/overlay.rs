@@ -52,11 +52,11 @@ pub fn annotate(img: &mut RgbaImage, scene: &Scene) {
     }
 }
 
-/// A vertical colour bar at the right edge with five ticks and its label above it.
+/// A vertical colour bar at the right edge, from 0 to `max`, with round ticks and its label above it.
 fn colour_bar(img: &mut RgbaImage, s: i64, label: &str, map: Colormap, max: f64) {
     let (w, h) = (i64::from(img.width()), i64::from(img.height()));
-    let labels: Vec<String> = (0..=4).map(|i| heatmap::tick_label(max * f64::from(i) / 4.0, max)).collect();
-    let label_w = labels.iter().map(String::len).max().unwrap_or(1) as i64 * 8 * s;
+    let ticks = heatmap::ticks(0.0, max, 5);
+    let label_w = ticks.iter().map(|(_, l)| text::width(l, s)).max().unwrap_or(0);
     let bar_w = 12 * s;
     let box_w = (bar_w + 6 * s + label_w).max(text::width(label, s)) + 16 * s;
     let bar_h = (h * 2 / 5).max(40);
@@ -69,8 +69,9 @@ fn colour_bar(img: &mut RgbaImage, s: i64, label: &str, map: Colormap, max: f64)
         let c = rgba(heatmap::color(map, 1.0 - y as f64 / (bar_h - 1) as f64));
         fill(img, bar_x, bar_y + y, bar_w, 1, c);
     }
-    for (i, l) in labels.iter().enumerate() {
-        let y = bar_y + (bar_h - 1) - (bar_h - 1) * i as i64 / 4;
+    for (v, l) in &ticks {
+        let f = if max > 0.0 { (v / max).clamp(0.0, 1.0) } else { 0.0 };
+        let y = bar_y + (bar_h - 1) - ((bar_h - 1) as f64 * f).round() as i64;
         fill(img, bar_x, y, bar_w + 3 * s, s.max(1), INK);
         text::draw(img, bar_x + bar_w + 6 * s, (y - 4 * s).clamp(bar_y, bar_y + bar_h - 8 * s), s, l, INK);
     }
