@@ -72,7 +72,7 @@ fn quaternion_axis(value: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec3> {
     }
     let quat = DQuat::from_xyzw(q[1] / largest, q[2] / largest, q[3] / largest, q[0] / largest);
     let length = quat.length();
-    if !(length > 1e-9) {
+    if length <= 1e-9 {
         return Err(zero());
     }
     Ok(((quat / length) * DVec3::Z).normalize())
@@ -377,7 +377,7 @@ pub fn read_path(waypoints: &Bound<'_, PyAny>) -> PyResult<Vec<Waypoint>> {
 }
 
 /// Replaces the nozzle's path with one through `list` (read by [`read_path`]), turned by
-/// `roll` (rad; the present roll when None).
+/// `roll` (radians, converted from the caller's degrees; the present roll when None).
 pub fn set_path(sim: &mut Simulation, list: Vec<Waypoint>, roll: Option<f64>) -> PyResult<()> {
     let roll = roll.unwrap_or_else(|| sim.nozzle().roll());
     replace(sim, NozzlePath::through(list, roll))

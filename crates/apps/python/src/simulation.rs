@@ -55,7 +55,8 @@ struct Setup {
 /// released) until another thread's call on the same simulation has returned. A callback of a
 /// call (`run`'s `progress`) cannot use its simulation: that raises `RuntimeError`.
 ///
-/// Units: m, s, kg; angles in radians. Frame: z up, gravity along −z.
+/// Units: m, s, kg; angles in degrees, the unit in every name (`roll_deg`). Frame: z up,
+/// gravity along −z. Float maps hold NaN in openings.
 #[pyclass(module = "spraysim", name = "Simulation", frozen)]
 pub struct PySimulation {
     state: Exclusive<State>,
