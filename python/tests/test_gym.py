@@ -118,6 +118,9 @@ def test_the_goal_may_be_a_band_or_a_map():
     mapped = SprayEnv(goal=target, tolerance=0.0)
     _, info = mapped.reset(seed=0)
     assert info["error"] == pytest.approx(0.5 * 0.02 / 0.01)
+    with pytest.warns(DeprecationWarning, match="goal"):
+        old = SprayEnv(target_thickness=0.5e-3)
+    assert old._ref == pytest.approx(0.5e-3)
     with pytest.raises(ValueError, match="goal"):
         SprayEnv(goal=-1.0)
     with pytest.raises(ValueError, match="goal"):

@@ -68,6 +68,7 @@ The environment is registered as ``"spraysim/Spray-v0"`` (``gymnasium.make("spra
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any, Optional, Sequence, Tuple, Union
 
 import gymnasium
@@ -188,6 +189,7 @@ class SprayEnv(gymnasium.Env):
     ``waste_weight``, ``wear_weight``, ``render_size`` (height, width in pixels), ``threads``
     (worker threads per simulation). Unset values take the process's defaults
     (:data:`PROCESSES`). A value out of range raises ``ValueError`` naming it.
+    ``target_thickness`` is the deprecated former name of ``goal``.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 20}
@@ -217,7 +219,17 @@ class SprayEnv(gymnasium.Env):
         render_size: Tuple[int, int] = (256, 256),
         threads: int = 1,
         render_mode: Optional[str] = None,
+        target_thickness: Optional[float] = None,
     ) -> None:
+        if target_thickness is not None:
+            warnings.warn(
+                "target_thickness is deprecated: give goal (a thickness in m, a (low, high) band or a map)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            if goal is not None:
+                raise ValueError("goal and target_thickness were both given: give goal only")
+            goal = target_thickness
         if action_mode not in ("velocity", "pose"):
             raise ValueError(f"action_mode: must be 'velocity' or 'pose', got {action_mode!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:

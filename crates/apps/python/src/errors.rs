@@ -19,10 +19,16 @@ pyo3::create_exception!(
 /// A `ScenarioError` with its `key`, `location` and `message` attributes set.
 pub fn scenario_error(py: Python<'_>, e: &spraysim::ScenarioError) -> PyErr {
     use spraysim::ScenarioError as E;
+    // An override's location is the command line's `--set KEY=VALUE`; callers name the Python
+    // call instead (`relocated`), and any left over is named without the command's syntax.
+    let place = |l: &String| match l.strip_prefix("--set ") {
+        Some(assignment) => format!("override {assignment}"),
+        None => l.clone(),
+    };
     let (key, location, message) = match e {
         E::Read { origin, source } => (None, Some(origin.clone()), source.to_string()),
-        E::Syntax { location, message } => (None, Some(location.clone()), message.clone()),
-        E::Invalid { location, key, message } => (Some(key.clone()), Some(location.clone()), message.clone()),
+        E::Syntax { location, message } => (None, Some(place(location)), message.clone()),
+        E::Invalid { location, key, message } => (Some(key.clone()), Some(place(location)), message.clone()),
     };
     refusal(py, key, location, message)
 }
