@@ -193,3 +193,23 @@ def test_resampling_leaves_openings_out():
 def test_bad_settings_raise_value_error_naming_them(kwargs, named):
     with pytest.raises(ValueError, match=named):
         SprayEnv(**kwargs)
+
+
+def test_openings_are_neither_observed_nor_scored_as_bare():
+    from test_conventions import window_wall
+
+    env = SprayEnv(scenario=window_wall(duration=2.0), obs_shape=(25, 30), render_mode="rgb_array")
+    obs, info = env.reset(seed=0)
+    assert obs["mask"].min() == 0.0 and obs["mask"].max() == 1.0
+    for _ in range(6):
+        obs, _, _, _, info = env.step(np.array([0.2, 0.2], dtype=np.float32))
+    assert np.isfinite(obs["thickness"]).all()
+    # The error is the mean over the wall's surface only: the window and the door are left out.
+    t = env.sim.thickness("wall")
+    mask = env.sim.mask("wall")
+    low, high = 0.04, 0.06
+    expected = np.mean(np.maximum(low - t[mask], 0) + np.maximum(t[mask] - high, 0)) / 0.05
+    assert info["error"] == pytest.approx(expected, rel=1e-12)
+    assert info["mean_thickness"] == pytest.approx(np.nanmean(t), rel=1e-12)
+    image = env.render()
+    assert (image == 128).all(axis=2).mean() > 0.1  # the openings in grey
