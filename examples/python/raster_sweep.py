@@ -34,9 +34,8 @@ def scenario(step_over, speed, standoff):
             },
         }
     )
-    # The raster's waypoints say when it ends.
-    end = spraysim.Simulation(base).nozzle_waypoints()[-1]["time"]
-    return base.set("simulation.duration", round(end + 0.3, 3))
+    # When the raster stops spraying, worked out from its size, step-over and speed.
+    return base.set("simulation.duration", round(base.spray_end + 0.3, 3))
 
 
 def region_of(thickness):
@@ -49,10 +48,11 @@ def region_of(thickness):
 
 
 def score(thickness):
-    """(objective, mean in mm, CV): the relative miss of the target mean plus the CV."""
+    """(objective, mean in mm, CV): the relative miss of the target mean plus the CV (openings,
+    NaN in the map, left out)."""
     region = region_of(thickness)
-    mean = float(region.mean())
-    cv = float(region.std() / mean) if mean > 0 else float("inf")
+    mean = float(np.nanmean(region))
+    cv = float(np.nanstd(region) / mean) if mean > 0 else float("inf")
     return abs(mean * 1e3 - TARGET_MM) / TARGET_MM + cv, mean * 1e3, cv
 
 

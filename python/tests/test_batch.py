@@ -38,6 +38,7 @@ def test_run_many_equals_sequential_runs(short):
         assert sorted(maps) == ["floor", "wall"]
         for name, array in maps.items():
             np.testing.assert_array_equal(array, sim.thickness(name))
+        assert sorted(metrics["targets"]) == ["floor", "wall"]
 
 
 def test_run_many_takes_dicts_and_paths(short, tmp_path):
@@ -82,7 +83,8 @@ def test_run_many_refuses_one_scenario_given_as_the_whole_batch(single):
 def test_run_many_names_the_item_of_a_refused_dict():
     with pytest.raises(spraysim.ScenarioError) as refused:
         spraysim.run_many([{}, {"simulation": {"dt": 0}}])
-    assert str(refused.value).startswith("scenarios[1]: `simulation.dt` ")
+    assert str(refused.value) == "simulation.dt: must be greater than 0 s, got 0 (scenarios[1])"
+    assert refused.value.location == "scenarios[1]"
 
 
 def test_run_many_refuses_a_batch_whose_maps_exceed_the_memory_limit_before_running():

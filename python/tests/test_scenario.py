@@ -58,9 +58,11 @@ def test_a_bad_override_raises_naming_the_key_with_the_commands_message(cli, tmp
     e = refused.value
     assert e.key == key
     assert isinstance(e, ValueError)
-    # Located at the Python call, with the value as given, not at the command's `--set`.
+    # Located at the Python call, with the value as given, not at the command's `--set`; the
+    # text begins with the key, Python-shaped.
     assert e.location == f"Scenario.set({key!r}, {value!r})"
-    assert str(e) == f"{e.location}: `{key}` {e.message}"
+    assert str(e) == f"{key}: {e.message} ({e.location})"
+    assert "--set" not in str(e)
     # The command refuses the same override with the same words.
     scene = tmp_path / "scene.toml"
     scene.write_text(Scenario().to_toml())
@@ -73,7 +75,8 @@ def test_override_errors_name_the_python_call_that_gave_the_value():
     with pytest.raises(ScenarioError) as refused:
         Scenario().set_many({"simulation.seed": 3, "emitter.speed": [30, 20]})
     assert refused.value.location == "Scenario.set_many({'emitter.speed': [30, 20]})"
-    assert str(refused.value).startswith("Scenario.set_many({'emitter.speed': [30, 20]}): `emitter.speed` ")
+    assert str(refused.value).startswith("emitter.speed: must be [min, max] with min ≤ max")
+    assert str(refused.value).endswith("(Scenario.set_many({'emitter.speed': [30, 20]}))")
     with pytest.raises(ScenarioError) as refused:
         Scenario().assign("emitter.spawn_rate=-1")
     assert refused.value.location == "Scenario.assign('emitter.spawn_rate=-1')"
@@ -100,7 +103,7 @@ def test_a_dict_is_checked_like_a_file():
     with pytest.raises(ScenarioError) as refused:
         Scenario({"simulation": {"dt": -0.001}})
     assert refused.value.key == "simulation.dt"
-    assert str(refused.value) == "<dict>: `simulation.dt` must be greater than 0 s, got -0.001"
+    assert str(refused.value) == "simulation.dt: must be greater than 0 s, got -0.001 (<dict>)"
     with pytest.raises(ScenarioError) as refused:
         Scenario.from_dict({"target": [{"name": "wall", "center": [0, 0, 1]}]})
     assert refused.value.key.startswith("target[0].")
@@ -111,7 +114,7 @@ def test_a_file_error_names_file_line_and_key(tmp_path):
     path.write_text("[simulation]\ndt = -0.001\n")
     with pytest.raises(ScenarioError) as refused:
         Scenario(path)
-    assert str(refused.value) == f"{path}:2: `simulation.dt` must be greater than 0 s, got -0.001"
+    assert str(refused.value) == f"simulation.dt: must be greater than 0 s, got -0.001 ({path}:2)"
     assert refused.value.location == f"{path}:2"
 
 
@@ -168,7 +171,8 @@ def test_values_nested_deeper_than_the_cap_are_refused_naming_the_key_path(depth
     # The cap is hit at the 32nd level: `output` and 31 levels of `a` below it.
     assert refused.value.key == "output" + ".a" * 31
     assert "32 levels" in refused.value.message
-    assert str(refused.value).startswith("<dict>: `output.a.a.")
+    assert str(refused.value).startswith("output.a.a.")
+    assert str(refused.value).endswith("(<dict>)")
 
 
 def test_values_within_the_nesting_cap_reach_the_scenarios_own_checks():

@@ -51,7 +51,11 @@ def test_metrics_are_what_metrics_json_holds(short, tmp_path):
         p.name for p in tmp_path.iterdir() if p.name != "metrics.json" and not p.name.startswith(".")
     )
     assert json.loads(sim.metrics_json()) == written
-    assert sim.metrics() == written
+    # metrics() keys the targets by name; the file lists them in scenario order.
+    by_name = sim.metrics()
+    assert list(by_name["targets"]) == ["wall", "floor"] == [t["name"] for t in written["targets"]]
+    assert list(by_name["targets"].values()) == written["targets"]
+    assert {**by_name, "targets": written["targets"]} == written
     m = sim.metrics()
     assert m["emitted"]["count"] == sim.emitted()[0] == 2000
     assert m["time"] == pytest.approx(0.2)
@@ -81,7 +85,7 @@ def test_thickness_has_the_documented_shape_units_and_orientation():
     expected = np.array([(0.5 + 1.0) / 2.0 * 100 - 0.5, (0.5 + 1.0) / 2.0 * 200 - 0.5])
     assert np.abs(centroid - expected).max() < 3.0, centroid
     # Metres: thickness × cell area adds up to the layer's volume in m³.
-    target = sim.metrics()["targets"][0]
+    target = sim.metrics()["targets"]["wall"]
     cell_area = info["cell_size"][0] * info["cell_size"][1]
     assert wall.sum() * cell_area == pytest.approx(target["layer_volume"], rel=1e-9)
     assert wall.max() == pytest.approx(target["thickness"]["max"], rel=1e-12)
@@ -265,7 +269,7 @@ def test_a_target_index_out_of_range_raises_index_error_listing_the_targets(shor
 def test_unknown_waypoint_keys_are_refused_naming_the_key(short):
     sim = Simulation(short)
     before = sim.nozzle_waypoints()
-    with pytest.raises(ValueError, match=r"`waypoints\[1\]` has an unknown key 'spary'.*time, position, axis, spray"):
+    with pytest.raises(ValueError, match=r"`waypoints\[1\]` has an unknown key 'spary'.*time, position, axis, quaternion, matrix, spray"):
         sim.set_nozzle_path(
             [
                 {"time": 0.0, "position": [-1, 0, 1], "axis": [1, 0, 0]},

@@ -44,7 +44,7 @@ def test_a_shell_map_is_unrolled_and_holds_what_stuck() -> None:
     assert abs(arc - np.pi) < 1e-12 and abs(length - 2.0) < 1e-12
     # Equal cells: the map's volume is the mean thickness times the area, and every particle
     # that stuck (no rebound, no gravity, a cone inside the arch) is in it.
-    stuck = sim.metrics()["targets"][0]["stuck"]
+    stuck = sim.metrics()["targets"]["arch"]["stuck"]
     assert stuck["count"] > 100
     assert abs(t.mean() * arc * length / stuck["volume"] - 1.0) < 1e-6
     # The spray is straight up: the crown (the middle columns) is thicker than the springlines.

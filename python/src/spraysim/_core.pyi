@@ -1,6 +1,7 @@
 """Type stubs of the extension module ``spraysim._core`` (re-exported by ``spraysim``).
 
-SI units throughout (m, s, kg); angles in radians in code (degrees in scenario files).
+SI units throughout (m, s, kg); angles in degrees everywhere, the unit in every name
+(``roll_deg``, ``angles_deg``); quaternions as (w, x, y, z); NaN in openings in every float map.
 """
 
 import os
@@ -39,9 +40,10 @@ class ScenarioError(ValueError):
     """A scenario was refused: unknown key, wrong type, impossible value, a value nested deeper
     than 32 levels of dicts and lists or holding itself.
 
-    The text is ``location: `key` message``, e.g.
-    ``Scenario.set('emitter.spawn_rate', -1.0): `emitter.spawn_rate` must be greater than 0 1/s,
-    got -1``; ``message`` holds the words the ``spraysim`` command prints for the same value.
+    The text is ``key: message (location)``, e.g. ``emitter.spawn_rate: must be greater than 0
+    1/s, got -1 (Scenario.set('emitter.spawn_rate', -1.0))``; a syntax or read error, which has
+    no key, reads ``location: message``. ``message`` holds the words the ``spraysim`` command
+    prints for the same value.
     """
 
     key: Optional[str]
@@ -109,6 +111,14 @@ class Scenario:
     def seed(self) -> int:
         """Seed of every random stream."""
     @property
+    def spray_end(self) -> Optional[float]:
+        """When the nozzle stops spraying for good, s, from its motion (waypoints, tool path,
+        raster and its speed) without running; None when it sprays until the run ends."""
+    @property
+    def path_end(self) -> float:
+        """When the nozzle's path reaches its last waypoint, s (0 for a static or circling
+        nozzle), without running."""
+    @property
     def target_names(self) -> list[str]:
         """The targets' names, in file order."""
 
@@ -147,17 +157,64 @@ class _Nozzle(TypedDict):
     """(3,) position, m."""
     axis: npt.NDArray[np.float64]
     """(3,) unit spray axis."""
+    quaternion: npt.NDArray[np.float64]
+    """(4,) orientation (w, x, y, z): takes the tool's x, y, z axes to the aperture's width axis,
+    its height axis and the spray axis."""
+    matrix: npt.NDArray[np.float64]
+    """(4, 4) homogeneous pose: columns width axis, height axis, spray axis, position."""
+    roll_deg: float
+    """Roll of the aperture about the spray axis, degrees."""
     velocity: npt.NDArray[np.float64]
     """(3,) velocity along its path, m/s."""
     spraying: bool
 
+class _Circle(TypedDict):
+    """A circle superposed on a nozzle path (``Simulation.nozzle_path()["circle"]``)."""
+
+    radius: float
+    """m."""
+    frequency: float
+    """Revolutions per second, Hz."""
+    start: float
+    """Time at which the offset is ``radius · first``, s."""
+    first: npt.NDArray[np.float64]
+    second: npt.NDArray[np.float64]
+    """The offset's unit direction a quarter turn after ``first``."""
+    axis: npt.NDArray[np.float64]
+    """The spray axis the circle's plane is perpendicular to."""
+
+class _NozzlePath(TypedDict):
+    """A nozzle path exactly (``Simulation.nozzle_path()``)."""
+
+    waypoints: list[dict[str, Any]]
+    roll_deg: float
+    circle: Optional[_Circle]
+
+class _Samples(TypedDict):
+    """The nozzle's poses at given times (``Simulation.nozzle_at``)."""
+
+    position: npt.NDArray[np.float64]
+    axis: npt.NDArray[np.float64]
+    spraying: npt.NDArray[np.bool_]
+
+class _SurfaceFrame(TypedDict):
+    """A point of a surface and its frame (``Simulation.surface_frame``)."""
+
+    position: npt.NDArray[np.float64]
+    normal: npt.NDArray[np.float64]
+    right: npt.NDArray[np.float64]
+    up: npt.NDArray[np.float64]
+
 class _Waypoint(TypedDict, total=False):
-    """A waypoint of a nozzle path: ``time`` (s), ``position`` (m), ``axis`` (unit vector),
-    ``spray`` (spray from here to the next waypoint; default True)."""
+    """A waypoint of a nozzle path: ``time`` (s), ``position`` (m) and one orientation, ``axis``
+    (a vector), ``quaternion`` (w, x, y, z) or ``matrix`` (4 × 4, holding the position instead
+    of ``position``), and ``spray`` (spray from here to the next waypoint; default True)."""
 
     time: float
     position: npt.ArrayLike
     axis: npt.ArrayLike
+    quaternion: npt.ArrayLike
+    matrix: npt.ArrayLike
     spray: bool
 
 class _TargetGeometry(TypedDict, total=False):
@@ -184,7 +241,7 @@ class _TargetGeometry(TypedDict, total=False):
     """A shell's unit axis, along which rows grow."""
     radius: float
     """A shell's radius, m."""
-    angles: Tuple[float, float]
+    angles_deg: Tuple[float, float]
     """A shell's angular range, degrees."""
     side: Literal["inside", "outside"]
     """The side of a shell that receives spray."""
@@ -197,6 +254,8 @@ class _TargetInfo(_TargetGeometry):
     shape: Literal["rectangle", "cylinder", "mesh"]
     cells: int
     """Cells of its maps (triangles on a mesh)."""
+    solid_cells: int
+    """Cells not cut away by openings."""
 
 @final
 class Simulation:
@@ -216,7 +275,8 @@ class Simulation:
 
     def __new__(cls, scenario: _ScenarioSource = None, threads: int = 0) -> "Simulation": ...
     def step(self, n: int = 1) -> None:
-        """Advances by ``n`` time steps Δt (also past the configured duration)."""
+        """Advances by ``n`` time steps Δt (also past the configured duration); a negative ``n``
+        raises ``ValueError``."""
     def run(
         self,
         until: Optional[float] = None,
@@ -252,8 +312,8 @@ class Simulation:
     def emitted(self) -> Tuple[int, float]:
         """Particles emitted so far: ``(count, volume in m³)``."""
     def metrics(self) -> dict[str, Any]:
-        """The results so far, equal to what ``metrics.json`` holds (less its ``files``
-        manifest)."""
+        """The results so far: what ``metrics.json`` holds (less its ``files`` manifest), with
+        ``targets`` a dict keyed by target name (the file lists them in scenario order)."""
     def metrics_json(self) -> str:
         """The text ``metrics.json`` would hold now, without the ``files`` manifest that only a
         written set of outputs has."""
@@ -275,41 +335,70 @@ class Simulation:
         """Deposited thickness, m. On a rectangle, a (rows, cols) array: row 0 is the target's
         bottom edge (rows grow along ``up``), columns grow along ``right`` = ``up × normal`` (the
         viewer's right looking from the spray side): plot with ``origin="lower"``; cells in
-        openings hold 0. On a cylinder shell, the unrolled (rows along the axis, cols around it)
+        openings hold NaN, as in the ``.npy`` files (``mask`` is False there; use
+        ``np.nanmean``). On a cylinder shell, the unrolled (rows along the axis, cols around it)
         map. On a mesh, one value per triangle, in the file's order. ``copy=False``: a read-only
-        view of the simulation's memory (no copy) that shows later steps; ``copy=True``: an
-        independent array. ``target`` is a name or an index from 0: an unknown name raises
-        ``KeyError``, a negative or too large index ``IndexError``, both listing the targets."""
+        view of the simulation's memory (no copy) that shows later steps, on a target without
+        openings; a target with openings, or ``copy=True``, gives an independent array.
+        ``target`` is a name or an index from 0: an unknown name raises ``KeyError``, a negative
+        or too large index ``IndexError``, both listing the targets."""
+    def mask(self, target: Union[str, int]) -> npt.NDArray[np.bool_]:
+        """Where the target's surface is, laid out as ``thickness``: False in cells cut away by
+        openings (NaN in ``thickness``)."""
     def hits(self, target: Union[str, int], copy: bool = False) -> npt.NDArray[np.uint32]:
-        """Impacts per cell (stuck or rebounded), laid out as ``thickness``."""
+        """Impacts per cell (stuck or rebounded), laid out as ``thickness`` (0 in openings)."""
     def erosion(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
-        """Depth eroded per cell, coating and substrate together, m (a copy), or None without erosion."""
+        """Depth eroded per cell, coating and substrate together, m (a copy, NaN in openings), or
+        None without erosion."""
+    def coating(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
+        """Coating left per cell, m (a copy, NaN in openings; 0 where cleaned to bare
+        substrate), or None without erosion."""
     def target_info(self, target: Union[str, int]) -> _TargetInfo:
         """A target's geometry."""
+    def surface_frame(self, target: Union[str, int], u: float, v: float, height: float = 0.0) -> _SurfaceFrame:
+        """A rectangle's or cylinder shell's surface at unrolled ``(u, v)`` (m from the middle of
+        its map; ``u`` along the columns, ``v`` along the rows) raised by ``height`` (m) on the
+        receiving side: its ``position``, receiving ``normal``, ``right`` (growing ``u``) and
+        ``up`` (growing ``v``). A mesh raises ``ValueError``."""
     def nozzle(self) -> _Nozzle:
-        """The nozzle's pose, velocity and spray state now."""
+        """The nozzle's pose (position, axis, quaternion, matrix, roll_deg), velocity and spray
+        state now."""
     def set_nozzle(
         self,
-        position: npt.ArrayLike,
+        position: Optional[npt.ArrayLike] = None,
         axis: Optional[npt.ArrayLike] = None,
         spray: bool = True,
+        *,
+        quaternion: Optional[npt.ArrayLike] = None,
+        matrix: Optional[npt.ArrayLike] = None,
     ) -> None:
-        """Holds the nozzle at ``position`` (m, finite, within ±10⁴ m of the origin as in
-        scenario files) spraying along ``axis`` (finite, non-zero, normalised; the present axis
-        when None) from the next step on (closed-loop control). Anything else raises
-        ``ValueError`` naming the argument."""
+        """Holds the nozzle at a pose from the next step on (closed-loop control): ``position``
+        (m, finite, within ±10⁴ m of the origin as in scenario files) with ``axis`` (finite,
+        non-zero, normalised), ``quaternion`` (w, x, y, z; the spray axis is the tool's z axis
+        rotated by it) or neither (the present axis); or a 4 × 4 ``matrix`` alone (rotation and
+        position; the spray axis is its third column). Anything else raises ``ValueError``
+        naming the argument."""
     def set_nozzle_path(
         self,
         waypoints: Iterable[Union[_Waypoint, Mapping[str, Any], Tuple[Any, ...]]],
+        roll_deg: Optional[float] = None,
+        *,
         roll: Optional[float] = None,
     ) -> None:
         """Replaces the nozzle's path from the next step on: waypoints in absolute simulated
         time (s, strictly increasing), position interpolated linearly and axis spherically;
-        ``roll`` (rad) turns the aperture about the axis. A waypoint dict takes the keys
-        ``time``, ``position``, ``axis`` and ``spray`` only; positions and axes are checked as by
-        ``set_nozzle``."""
-    def nozzle_waypoints(self) -> list[dict[str, Any]]:
-        """The nozzle's path as waypoint dicts."""
+        ``roll_deg`` (degrees) turns the aperture about the axis (``roll``, in radians, is
+        deprecated). A waypoint dict takes the keys ``time``, ``position``, ``axis``,
+        ``quaternion``, ``matrix`` and ``spray`` only; poses are checked as by ``set_nozzle``."""
+    def nozzle_waypoints(self, samples_per_turn: int = 16) -> list[dict[str, Any]]:
+        """The nozzle's path as flown, as waypoint dicts that ``set_nozzle_path`` takes back: its
+        own waypoints without a circle; with one, the path sampled ``samples_per_turn`` times per
+        revolution (and at its own waypoints), circle included, up to its last waypoint or the
+        configured duration, whichever is later."""
+    def nozzle_path(self) -> _NozzlePath:
+        """The nozzle's path exactly: its own waypoints, ``roll_deg`` and its ``circle``."""
+    def nozzle_at(self, times: Iterable[float]) -> _Samples:
+        """The nozzle's pose at each of ``times`` (s), circle included, without running."""
 
 def presets() -> dict[str, dict[str, dict[str, Any]]]:
     """Each process preset's ``process`` and ``emitter`` sections, by name (``"shotcrete"``,
@@ -325,10 +414,10 @@ def run_many(
     """Runs every scenario to its end in parallel inside Rust on ``threads`` threads (0: one
     per core), releasing the interpreter. ``scenarios`` is a list or any iterable (a generator
     too) of scenarios; a single ``str``, path, ``dict`` or ``Scenario`` raises ``TypeError``
-    (pass a list), as does a None item. Returns each run's metrics (equal to its
-    ``metrics.json``), in order; with ``maps=True``, ``(metrics, {target: thickness})`` pairs
-    (thickness in m, laid out as ``Simulation.thickness``). Results equal those of sequential
-    runs.
+    (pass a list), as does a None item. Returns each run's metrics (its ``metrics.json``, with
+    ``targets`` keyed by name as ``Simulation.metrics`` gives them), in order; with
+    ``maps=True``, ``(metrics, {target: thickness})`` pairs (thickness in m, laid out as
+    ``Simulation.thickness``, NaN in openings). Results equal those of sequential runs.
 
     The scenarios are all read and checked first (no simulation is built then). At most
     ``threads`` simulations (one per core for 0) are alive at a time, fewer when the memory

@@ -75,3 +75,21 @@ pub fn short_repr(value: &Bound<'_, PyAny>) -> String {
         .and_then(|r| r.extract::<String>())
         .unwrap_or_else(|_| format!("<{}>", type_name(value)))
 }
+
+/// A count `value` given as the argument `name` (of `unit`, for messages): a whole number ≥ 0.
+/// A negative or too large one raises `ValueError` (not `OverflowError`), anything else
+/// `TypeError`.
+pub fn count(value: &Bound<'_, PyAny>, name: &str, unit: &str) -> PyResult<u64> {
+    if value.is_instance_of::<pyo3::types::PyBool>() || !value.hasattr("__index__")? {
+        return Err(PyTypeError::new_err(format!(
+            "`{name}` must be a whole number of {unit}, got {}",
+            type_name(value)
+        )));
+    }
+    if value.lt(0_i64)? {
+        return Err(PyValueError::new_err(format!("`{name}` must be a number of {unit} ≥ 0, got {value}")));
+    }
+    value.extract::<u64>().map_err(|_| {
+        PyValueError::new_err(format!("`{name}` must be at most {} {unit}, got {value}", u64::MAX))
+    })
+}

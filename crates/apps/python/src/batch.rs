@@ -39,10 +39,10 @@ const METRICS_BYTES: f64 = 32.0 * 1024.0;
 /// batch whose results (with `maps=True`, every map of every run) cannot fit raises
 /// `MemoryError`, saying what to change.
 ///
-/// Returns, in the order given, each run's metrics as a dictionary equal to its
-/// `metrics.json`; with `maps=True`, `(metrics, maps)` pairs instead, where `maps` holds each
-/// target's thickness (m, a (rows, cols) float64 array laid out as
-/// `Simulation.thickness`) by target name. Results equal those of running the scenarios one
+/// Returns, in the order given, each run's metrics as a dictionary (its `metrics.json`, with
+/// `targets` keyed by name, as `Simulation.metrics` gives it); with `maps=True`, `(metrics,
+/// maps)` pairs instead, where `maps` holds each target's thickness (m, a (rows, cols) float64
+/// array laid out as `Simulation.thickness`, NaN in openings) by target name. Results equal those of running the scenarios one
 /// after the other, whatever `threads`.
 #[pyfunction]
 #[pyo3(
@@ -208,7 +208,7 @@ impl Outcome {
         let maps = if maps {
             sim.targets()
                 .iter()
-                .map(|t| (t.name.clone(), views::shape(t), t.surface.thickness().to_vec()))
+                .map(|t| (t.name.clone(), views::shape(t), views::with_nan(t, t.surface.thickness())))
                 .collect()
         } else {
             Vec::new()
@@ -219,7 +219,7 @@ impl Outcome {
     /// The run's result as Python returns it: metrics, or `(metrics, maps)` when `maps`.
     fn into_py(self, py: Python<'_>, index: usize, maps: bool) -> PyResult<Bound<'_, PyAny>> {
         let text = self.metrics.map_err(|e| PyOSError::new_err(format!("scenarios[{index}]: {e}")))?;
-        let metrics = convert::json_to_py(py, &text)?;
+        let metrics = convert::metrics_to_py(py, &text)?;
         if !maps {
             return Ok(metrics);
         }

@@ -162,3 +162,20 @@ pub fn to_py<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<B
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("cannot convert to Python: {e}")))?;
     json_to_py(py, &text)
 }
+
+/// `metrics.json` text as a Python dict, with its `targets` list turned into a dict keyed by
+/// target name (in scenario order), so that a target is found by its name.
+pub fn metrics_to_py<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
+    let metrics = json_to_py(py, text)?;
+    if let Ok(d) = metrics.cast::<PyDict>()
+        && let Some(targets) = d.get_item("targets")?
+        && let Ok(list) = targets.cast::<PyList>()
+    {
+        let by_name = PyDict::new(py);
+        for t in list.iter() {
+            by_name.set_item(t.get_item("name")?, &t)?;
+        }
+        d.set_item("targets", by_name)?;
+    }
+    Ok(metrics)
+}

@@ -9,7 +9,9 @@
 //! override is checked exactly as a file's value or the command's `--set`), a simulation is a
 //! [`spraysim::Simulation`] stepped with the interpreter released in slices of about 10 ms, so
 //! that other Python threads run meanwhile and Ctrl-C raises `KeyboardInterrupt` between two
-//! slices. SI units throughout (m, s, kg); angles in radians.
+//! slices. SI units throughout (m, s, kg); angles in degrees, with the unit in every name
+//! (`roll_deg`); quaternions as `(w, x, y, z)`; float maps hold NaN in openings, as the `.npy`
+//! files do; errors begin with the key or argument they are about.
 //!
 //! Limits, each refused with a Python exception that names the argument or key:
 //! - a scenario value (a `dict` or a `Scenario.set` value) nests dicts and lists at most 32

@@ -53,18 +53,13 @@ pub fn read(py: Python<'_>, source: &Bound<'_, PyAny>, origin: &str) -> PyResult
 /// Reads a scenario from a dictionary shaped like the TOML file.
 fn from_dict(py: Python<'_>, dict: &Bound<'_, PyDict>, origin: &str) -> PyResult<Scenario> {
     let table = convert::dict_to_toml(dict, "").map_err(|r| refused(py, origin, r))?;
-    let text = toml::to_string(&table)
-        .map_err(|e| refusal(py, format!("{origin}: {e}"), None, Some(origin.into()), e.to_string()))?;
+    let text = toml::to_string(&table).map_err(|e| refusal(py, None, Some(origin.into()), e.to_string()))?;
     Scenario::from_toml(&text, origin).map_err(|e| {
         // Lines of the TOML text made from the dictionary would mean nothing to its author.
         use spraysim::ScenarioError as E;
         match e {
-            E::Invalid { key, message, .. } => {
-                refusal(py, format!("{origin}: `{key}` {message}"), Some(key), Some(origin.into()), message)
-            }
-            E::Syntax { message, .. } => {
-                refusal(py, format!("{origin}: {message}"), None, Some(origin.into()), message)
-            }
+            E::Invalid { key, message, .. } => refusal(py, Some(key), Some(origin.into()), message),
+            E::Syntax { message, .. } => refusal(py, None, Some(origin.into()), message),
             other => scenario_error(py, &other),
         }
     })
@@ -72,8 +67,7 @@ fn from_dict(py: Python<'_>, dict: &Bound<'_, PyDict>, origin: &str) -> PyResult
 
 /// The `ScenarioError` for a Python value that has no TOML form.
 fn refused(py: Python<'_>, location: &str, r: Refused) -> PyErr {
-    let text = format!("{location}: `{}` {}", r.key, r.message);
-    refusal(py, text, Some(r.key), Some(location.to_string()), r.message)
+    refusal(py, Some(r.key), Some(location.to_string()), r.message)
 }
 
 #[pymethods]
@@ -211,6 +205,28 @@ impl PyScenario {
     #[getter]
     fn seed(&self) -> u64 {
         self.inner.simulation().seed
+    }
+
+    /// When the nozzle stops spraying for good, s, worked out from its motion (waypoints, tool
+    /// path, raster and its speed) without running anything; None when it sprays until the run
+    /// ends (a static or circling nozzle, or a path whose last waypoint sprays). May lie past
+    /// `duration`, when the run stops before the path does.
+    #[getter]
+    fn spray_end(&self) -> Option<f64> {
+        let end = self.inner.config().nozzle.spray_end();
+        end.is_finite().then_some(end)
+    }
+
+    /// When the nozzle's path reaches its last waypoint, s (0 for a static or circling
+    /// nozzle), without running anything.
+    #[getter]
+    fn path_end(&self) -> f64 {
+        let config = self.inner.config();
+        let path = &config.nozzle;
+        if path.waypoints().len() < 2 {
+            return 0.0;
+        }
+        path.waypoints().last().map_or(0.0, |w| w.time)
     }
 
     /// The targets' names, in file order.

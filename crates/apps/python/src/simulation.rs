@@ -55,7 +55,8 @@ struct Setup {
 /// released) until another thread's call on the same simulation has returned. A callback of a
 /// call (`run`'s `progress`) cannot use its simulation: that raises `RuntimeError`.
 ///
-/// Units: m, s, kg; angles in radians. Frame: z up, gravity along −z.
+/// Units: m, s, kg; angles in degrees, the unit in every name (`roll_deg`). Frame: z up,
+/// gravity along −z. Float maps hold NaN in openings.
 #[pyclass(module = "spraysim", name = "Simulation", frozen)]
 pub struct PySimulation {
     state: Exclusive<State>,
@@ -148,8 +149,9 @@ impl PySimulation {
     }
 
     /// Advances the simulation by `n` time steps Δt (also past the configured duration).
-    #[pyo3(signature = (n = 1))]
-    fn step(&self, py: Python<'_>, n: u64) -> PyResult<()> {
+    #[pyo3(signature = (n = None), text_signature = "(self, n=1)")]
+    fn step(&self, py: Python<'_>, n: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let n = n.map_or(Ok(1), |n| crate::args::count(n, "n", "steps"))?;
         let pool = self.pool(py);
         let mut state = self.lock(py)?;
         let until = state.held.sim.steps_done().saturating_add(n);
@@ -246,10 +248,11 @@ impl PySimulation {
         Ok((e.count, e.volume))
     }
 
-    /// The results so far as a dictionary equal to what `metrics.json` holds (keys, units and
-    /// values; see docs/outputs.md), less its `files` manifest.
+    /// The results so far as a dictionary: what `metrics.json` holds (keys, units and values;
+    /// see docs/outputs.md), less its `files` manifest, with `targets` keyed by target name
+    /// (the file lists them in scenario order).
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        convert::json_to_py(py, &self.metrics_json(py)?)
+        convert::metrics_to_py(py, &self.metrics_json(py)?)
     }
 
     /// The text `metrics.json` would hold now, without the `files` manifest that only a
@@ -343,21 +346,29 @@ impl PySimulation {
     /// columns grow along `right` = `up × normal` (the viewer's right, looking at the target
     /// from the spray side): plot it with `origin="lower"`. On a cylinder shell the unrolled
     /// (along the axis, around it) map; on a mesh one value per triangle, in the file's order.
-    /// With `copy=False` (the default) a read-only view of the simulation's own memory, no copy:
-    /// it shows later steps as they happen (do not read it while another thread runs this
-    /// simulation); `copy=True` gives an independent array. An unknown name raises `KeyError`, a
-    /// negative or too large index `IndexError`, both listing the targets.
+    /// Cells cut away by openings hold NaN, as in the `.npy` files (`mask(target)` is False
+    /// there): use `np.nanmean` and the like. With `copy=False` (the default) a read-only view
+    /// of the simulation's own memory, no copy, when the target has no openings: it shows later
+    /// steps as they happen (do not read it while another thread runs this simulation); a
+    /// target with openings, or `copy=True`, gives an independent array. An unknown name raises
+    /// `KeyError`, a negative or too large index `IndexError`, both listing the targets.
     #[pyo3(signature = (target, copy = false))]
     fn thickness<'py>(
         slf: &Bound<'py, Self>,
         target: &Bound<'py, PyAny>,
         copy: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        views::grid(slf, target, copy, |t| t.surface.thickness())
+        views::float_map(slf, target, copy, |t| t.surface.thickness())
+    }
+
+    /// Where a target's surface is: a bool array laid out as `thickness`, True on the
+    /// surface, False in cells cut away by openings (where `thickness` holds NaN).
+    fn mask<'py>(&self, py: Python<'py>, target: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        views::mask(py, &self.lock(py)?.held.sim, target)
     }
 
     /// Impacts per cell (stuck or rebounded) on a target (name or index): a uint32 array laid
-    /// out as `thickness`, with the same `copy` choice.
+    /// out as `thickness` (0 in openings: see `mask`), viewed or copied as `copy` says.
     #[pyo3(signature = (target, copy = false))]
     fn hits<'py>(
         slf: &Bound<'py, Self>,
@@ -367,8 +378,8 @@ impl PySimulation {
         views::grid(slf, target, copy, |t| t.surface.hits())
     }
 
-    /// Eroded depth per cell on a target (name or index), m, laid out as `thickness` (a copy),
-    /// or None when the process erodes nothing.
+    /// Eroded depth per cell on a target (name or index), m, laid out as `thickness` (a copy,
+    /// NaN in openings), or None when the process erodes nothing.
     fn erosion<'py>(
         &self,
         py: Python<'py>,
@@ -377,55 +388,123 @@ impl PySimulation {
         views::erosion(py, &self.lock(py)?.held.sim, target)
     }
 
-    /// A target's geometry (name or index): `name`, `role`, `rows`, `cols`, `cell_size` (width,
-    /// height) m, `size` (width, height) m, and unit vectors `normal`, `up`, `right` and the
-    /// `center` (m) as numpy arrays.
+    /// Coating left per cell on a target (name or index), m, laid out as `thickness` (a copy,
+    /// NaN in openings; 0 where blasting cleaned to bare substrate), or None when the process
+    /// erodes nothing. It starts at the target's `coating`.
+    fn coating<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'py, PyAny>,
+    ) -> PyResult<Option<Bound<'py, PyAny>>> {
+        views::coating(py, &self.lock(py)?.held.sim, target)
+    }
+
+    /// A target's geometry (name or index): `name`, `role`, `shape`, `cells`, `solid_cells`
+    /// (cells not cut away by openings), `rows`, `cols`, `cell_size` (width, height) m, `size`
+    /// (width, height) m, and unit vectors `normal`, `up`, `right` and the `center` (m) as
+    /// numpy arrays; a shell's `axis`, `radius`, `angles_deg` and `side`.
     fn target_info<'py>(&self, py: Python<'py>, target: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
         views::target_info(py, &self.lock(py)?.held.sim, target)
     }
 
-    /// The nozzle now: `position` (m), unit `axis`, `velocity` (m/s) as numpy arrays, and
-    /// `spraying` (bool).
+    /// The surface of a rectangle or a cylinder shell at the unrolled coordinates `(u, v)` (m
+    /// from the middle of its map, `u` along its columns, `v` along its rows), raised by
+    /// `height` (m) on the receiving side: `position` (m), the receiving unit `normal`, and the
+    /// unit directions `right` (growing `u`) and `up` (growing `v`) there. A mesh raises
+    /// `ValueError`.
+    #[pyo3(signature = (target, u, v, height = 0.0))]
+    fn surface_frame<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'py, PyAny>,
+        u: f64,
+        v: f64,
+        height: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        views::surface_frame(py, &self.lock(py)?.held.sim, target, [u, v, height])
+    }
+
+    /// The nozzle now: `position` (m), unit `axis`, `quaternion` (w, x, y, z: the rotation
+    /// taking the tool's x, y, z axes to the aperture's width axis, its height axis and the
+    /// spray axis), the 4 × 4 pose `matrix` (columns: those three axes and the position),
+    /// `velocity` (m/s) as numpy arrays, `roll_deg` and `spraying` (bool).
     fn nozzle<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         nozzle::pose(py, &self.lock(py)?.held.sim)
     }
 
-    /// Holds the nozzle at `position` (m, three finite numbers within ±10⁴ m, as in scenario
-    /// files) spraying along `axis` (a finite, non-zero vector, normalised; the present axis
-    /// when None) from the next step on, spraying or not as `spray` says (closed-loop control).
-    #[pyo3(signature = (position, axis = None, spray = true))]
+    /// Holds the nozzle at a pose from the next step on, spraying or not as `spray` says
+    /// (closed-loop control). The pose is `position` (m, three finite numbers within ±10⁴ m, as
+    /// in scenario files) with one orientation: `axis` (the spray direction, a finite non-zero
+    /// vector, normalised), `quaternion` (w, x, y, z: scalar first; the spray axis is the
+    /// tool's z axis rotated by it, as in `nozzle.path_csv`), or none (the present axis); or
+    /// `matrix`, a 4 × 4 homogeneous pose (rotation and position; the spray axis is its third
+    /// column) given without `position`. The rotation about the spray axis is the path's roll
+    /// (`roll_deg` of `set_nozzle_path`), not the quaternion's or matrix's.
+    #[pyo3(signature = (position = None, axis = None, spray = true, *, quaternion = None, matrix = None))]
     fn set_nozzle(
         &self,
         py: Python<'_>,
-        position: &Bound<'_, PyAny>,
+        position: Option<&Bound<'_, PyAny>>,
         axis: Option<&Bound<'_, PyAny>>,
         spray: bool,
+        quaternion: Option<&Bound<'_, PyAny>>,
+        matrix: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let pose = nozzle::Pose::read(position, axis)?;
+        let pose = nozzle::Pose::read(&nozzle::PoseArgs { position, axis, quaternion, matrix })?;
         nozzle::hold(&mut self.lock(py)?.held.sim, pose, spray)
     }
 
-    /// Replaces the nozzle's path from the next step on. `waypoints` is a list of dicts (or
-    /// tuples in this order) with `time` (s, absolute simulated time, strictly increasing),
-    /// `position` (m, within ±10⁴ m), `axis` (a non-zero vector, normalised) and optionally
-    /// `spray` (default True: spray from this waypoint until the next); other keys are refused.
-    /// Position is interpolated linearly, the axis spherically; before the first and after the
-    /// last waypoint the nozzle holds that pose. `roll` (rad) turns the aperture about the axis
-    /// (the present roll when None).
-    #[pyo3(signature = (waypoints, roll = None))]
+    /// Replaces the nozzle's path from the next step on. `waypoints` is a list of dicts with
+    /// `time` (s, absolute simulated time, strictly increasing), `position` (m, within ±10⁴ m)
+    /// and one orientation, `axis`, `quaternion` (w, x, y, z) or `matrix` (4 × 4, holding the
+    /// position instead of `position`), as `set_nozzle` takes them, and optionally `spray`
+    /// (default True: spray from this waypoint until the next); other keys are refused. A
+    /// `(time, position, axis[, spray])` tuple is a waypoint too. Position is interpolated
+    /// linearly, the axis spherically; before the first and after the last waypoint the
+    /// nozzle holds that pose. `roll_deg` (degrees) turns the aperture about the axis (the
+    /// present roll when None); `roll` (radians) is its deprecated former name.
+    #[pyo3(signature = (waypoints, roll_deg = None, *, roll = None))]
     fn set_nozzle_path(
         &self,
         py: Python<'_>,
         waypoints: &Bound<'_, PyAny>,
+        roll_deg: Option<f64>,
         roll: Option<f64>,
     ) -> PyResult<()> {
-        let list = nozzle::read_path(waypoints, roll)?;
+        let roll = nozzle::roll(py, roll_deg, roll)?;
+        let list = nozzle::read_path(waypoints)?;
         nozzle::set_path(&mut self.lock(py)?.held.sim, list, roll)
     }
 
-    /// The nozzle's path: a list of waypoint dicts (`time`, `position`, `axis`, `spray`).
-    fn nozzle_waypoints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyList>> {
-        nozzle::waypoints(py, &self.lock(py)?.held.sim)
+    /// The nozzle's path as flown, as a list of waypoint dicts (`time`, `position`, `axis`,
+    /// `spray`) that `set_nozzle_path` takes back: the path's own waypoints when no circle is
+    /// superposed on it; with a circle (a circling nozzle, a raster with `circle_radius`), the
+    /// path sampled `samples_per_turn` times per revolution (and at each of its own
+    /// waypoints), circle included, from its first waypoint to its last or to the configured
+    /// duration, whichever is later. `nozzle_path()` gives the path's parts exactly.
+    #[pyo3(signature = (samples_per_turn = None), text_signature = "(self, samples_per_turn=16)")]
+    fn nozzle_waypoints<'py>(
+        &self,
+        py: Python<'py>,
+        samples_per_turn: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+        let samples =
+            samples_per_turn.map_or(Ok(16), |n| crate::args::count(n, "samples_per_turn", "samples"))?;
+        nozzle::waypoints(py, &self.lock(py)?.held.sim, samples)
+    }
+
+    /// The nozzle's path exactly: `waypoints` (its own, without the circle), `roll_deg`, and
+    /// `circle`, None or a dict of its `radius` (m), `frequency` (Hz), `start` (s, when the
+    /// offset is `radius · first`) and unit vectors `first`, `second` (the offset a quarter
+    /// turn later) and `axis` (the spray axis the circle's plane is perpendicular to).
+    fn nozzle_path<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        nozzle::path(py, &self.lock(py)?.held.sim)
+    }
+
+    /// The nozzle's pose at each of `times` (s, any order), circle included, without running:
+    /// `position` (n, 3) m, `axis` (n, 3) and `spraying` (n,) bool, as numpy arrays.
+    fn nozzle_at<'py>(&self, py: Python<'py>, times: Vec<f64>) -> PyResult<Bound<'py, PyDict>> {
+        nozzle::sample(py, &self.lock(py)?.held.sim, times)
     }
 }
 

@@ -9,11 +9,11 @@
 use crate::simulation::PySimulation;
 use numpy::ndarray::{ArrayViewD, IxDyn};
 use numpy::{Element, PyArray1, PyArrayDyn, PyArrayMethods, ToPyArray};
-use pyo3::exceptions::{PyIndexError, PyKeyError, PyOverflowError, PyTypeError};
+use pyo3::exceptions::{PyIndexError, PyKeyError, PyOverflowError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use spraysim::Simulation;
-use spraysim::deposit::{DepositSurface, Layout, Surface};
+use spraysim::deposit::{Chart, DepositSurface, Layout, Surface};
 use spraysim::world::{Role, Target};
 use std::sync::Arc;
 
@@ -94,7 +94,83 @@ pub fn grid<'py, T: Element + Copy>(
     Ok(array.into_any())
 }
 
-/// The depth eroded per cell of a target, coating and substrate together, a copy, or None.
+/// Which cells of a target carry its surface: false for the cells cut away by openings.
+pub fn solid(t: &Target) -> Vec<bool> {
+    let cells = t.surface.thickness().len();
+    (0..cells).map(|c| u32::try_from(c).is_ok_and(|c| t.surface.cell_area(c) > 0.0)).collect()
+}
+
+/// `values` with NaN in the cells of `t` cut away by openings, as the `.npy` files hold them.
+pub fn with_nan(t: &Target, values: &[f64]) -> Vec<f64> {
+    values.iter().zip(solid(t)).map(|(&v, s)| if s { v } else { f64::NAN }).collect()
+}
+
+/// A float map of the target `target` (see [`shape`]) with NaN in openings: viewed when the
+/// target has none and `copy` is false, else copied.
+pub fn float_map<'py>(
+    slf: &Bound<'py, PySimulation>,
+    target: &Bound<'py, PyAny>,
+    copy: bool,
+    data: impl Fn(&Target) -> &[f64],
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = slf.py();
+    {
+        let state = slf.get().lock(py)?;
+        let t = &state.held.sim.targets()[target_index(&state.held.sim, target)?];
+        if solid(t).iter().any(|s| !s) {
+            let values = with_nan(t, data(t));
+            let view = ArrayViewD::from_shape(shape(t), values.as_slice())
+                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("target {}: {e}", t.name)))?;
+            return Ok(view.to_pyarray(py).into_any());
+        }
+    }
+    grid(slf, target, copy, data)
+}
+
+/// Where a target's surface is (false in openings), laid out as its maps.
+pub fn mask<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let t = &sim.targets()[target_index(sim, target)?];
+    let solid = solid(t);
+    let view = ArrayViewD::from_shape(shape(t), solid.as_slice())
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok(view.to_pyarray(py).into_any())
+}
+
+/// The surface of a rectangle or shell at unrolled `(u, v)` raised by `height`, as a dict.
+pub fn surface_frame<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+    [u, v, height]: [f64; 3],
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = &sim.targets()[target_index(sim, target)?];
+    if let Some(bad) = [("u", u), ("v", v), ("height", height)].iter().find(|(_, x)| !x.is_finite()) {
+        return Err(PyValueError::new_err(format!("`{}` must be finite, got {}", bad.0, bad.1)));
+    }
+    let (position, (normal, right, up)) = match &t.surface {
+        Surface::Rectangle(r) => (r.chart.point(u, v, height), r.chart.frame(u, v)),
+        Surface::Cylinder(c) => (c.chart.point(u, v, height), c.chart.frame(u, v)),
+        Surface::Mesh(_) => {
+            return Err(PyValueError::new_err(format!(
+                "target {:?} is a mesh, which has no unrolled (u, v) coordinates",
+                t.name
+            )));
+        }
+    };
+    let d = PyDict::new(py);
+    d.set_item("position", vec3(py, position))?;
+    d.set_item("normal", vec3(py, normal))?;
+    d.set_item("right", vec3(py, right))?;
+    d.set_item("up", vec3(py, up))?;
+    Ok(d)
+}
+
+/// The depth eroded per cell of a target, coating and substrate together, a copy (NaN in
+/// openings), or None.
 pub fn erosion<'py>(
     py: Python<'py>,
     sim: &Simulation,
@@ -103,7 +179,23 @@ pub fn erosion<'py>(
     let t = &sim.targets()[target_index(sim, target)?];
     let Some(e) = &t.erosion else { return Ok(None) };
     let depth: Vec<f64> = (0..e.coating.len()).map(|c| e.eroded(c)).collect();
+    let depth = with_nan(t, &depth);
     let view = ArrayViewD::from_shape(shape(t), depth.as_slice())
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok(Some(view.to_pyarray(py).into_any()))
+}
+
+/// The coating left per cell of a target, m, a copy (NaN in openings), or None when the
+/// process erodes nothing.
+pub fn coating<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let t = &sim.targets()[target_index(sim, target)?];
+    let Some(e) = &t.erosion else { return Ok(None) };
+    let left = with_nan(t, &e.coating);
+    let view = ArrayViewD::from_shape(shape(t), left.as_slice())
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     Ok(Some(view.to_pyarray(py).into_any()))
 }
@@ -123,6 +215,7 @@ pub fn target_info<'py>(
     d.set_item("name", &t.name)?;
     d.set_item("role", if t.role == Role::Substrate { "substrate" } else { "collector" })?;
     d.set_item("cells", t.surface.thickness().len())?;
+    d.set_item("solid_cells", solid(t).iter().filter(|s| **s).count())?;
     if let Layout::Grid { rows, cols, cell, .. } = t.surface.layout() {
         d.set_item("rows", rows)?;
         d.set_item("cols", cols)?;
@@ -145,7 +238,7 @@ pub fn target_info<'py>(
             d.set_item("center", vec3(py, s.center))?;
             d.set_item("axis", vec3(py, s.axis))?;
             d.set_item("radius", s.radius)?;
-            d.set_item("angles", (s.angles[0].to_degrees(), s.angles[1].to_degrees()))?;
+            d.set_item("angles_deg", (s.angles[0].to_degrees(), s.angles[1].to_degrees()))?;
             d.set_item("side", if c.chart.inside { "inside" } else { "outside" })?;
         }
         Surface::Mesh(_) => d.set_item("shape", "mesh")?,
