@@ -16,7 +16,7 @@ fn a_raster_set_into_the_default_static_nozzle_names_the_override_and_the_table_
     assert_eq!(
         stderr(&o),
         "error: --set nozzle.raster={target=\"wall\"}: `nozzle.raster` belongs to a raster nozzle, but [nozzle] \
-         also has `nozzle.position` and `nozzle.axis`, a static or circling nozzle's keys: a nozzle moves one way \
+         also has `nozzle.position` and `nozzle.axis`, keys of a static or circling nozzle: a nozzle moves one way \
          only; to change how it moves, set the whole table, which replaces the scenario's: \
          nozzle={raster = {target = \"wall\"}}\n"
     );

@@ -93,8 +93,8 @@ fn a_motion_of_another_kind_replaces_the_whole_nozzle_table() {
     assert_eq!(key, "nozzle.raster");
     assert_eq!(
         message,
-        "belongs to a raster nozzle, but [nozzle] also has `nozzle.position` and `nozzle.axis`, a static or \
-         circling nozzle's keys: a nozzle moves one way only; to change how it moves, set the whole table, \
+        "belongs to a raster nozzle, but [nozzle] also has `nozzle.position` and `nozzle.axis`, keys of a static or \
+         circling nozzle: a nozzle moves one way only; to change how it moves, set the whole table, \
          which replaces the scenario's: nozzle={raster = {target = \"wall\"}}"
     );
     let sc = base

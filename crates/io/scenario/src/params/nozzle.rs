@@ -141,12 +141,12 @@ fn one_motion(s: &Section<'_>) -> Read<()> {
         Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
         _ => named.join(""),
     };
+    let keys = if others.len() == 1 { "a key" } else { "keys" };
     let whose = if other_motions.iter().all(|m| *m == other_motions[0]) {
-        format!("{}'s", MOTIONS[other_motions[0]].0)
+        format!("{keys} of {}", MOTIONS[other_motions[0]].0)
     } else {
-        "other motions'".to_string()
+        format!("{keys} of other motions")
     };
-    let keys = if others.len() == 1 { "key" } else { "keys" };
     let raster = given.iter().any(|(_, k)| *k == "raster");
     let circles = if raster && given.iter().any(|(_, k)| k.starts_with("circle_")) {
         " (a raster circles with its own circle_radius and circle_frequency, in [nozzle.raster])"
@@ -165,7 +165,7 @@ fn one_motion(s: &Section<'_>) -> Read<()> {
     bad(
         &s.key(blamed),
         format!(
-            "belongs to {}, but [{}] also has {named}, {whose} {keys}{circles}: a nozzle moves one way only; {remedy}",
+            "belongs to {}, but [{}] also has {named}, {whose}{circles}: a nozzle moves one way only; {remedy}",
             MOTIONS[motion].0,
             s.path(),
         ),
