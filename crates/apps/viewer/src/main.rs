@@ -59,13 +59,12 @@ fn main() -> ExitCode {
 }
 
 fn run(args: Args) -> Result<()> {
-    let mut scenario = match &args.scenario {
+    let scenario = match &args.scenario {
         Some(p) => Scenario::from_path(p)?,
         None => Scenario::default_scene(),
     };
-    for s in &args.set {
-        scenario = scenario.with_assignment(s)?;
-    }
+    // Applied together and checked once, as the command line's `--set`s are.
+    let scenario = if args.set.is_empty() { scenario } else { scenario.with_assignments(&args.set)? };
     let mut sim = scenario.build()?;
     sim.set_threads(args.threads)?;
     let options = SceneOptions::for_scenario(&scenario);

@@ -230,6 +230,24 @@ impl NozzlePath {
         (NozzleFrame::new(pos, axis, self.roll), spray)
     }
 
+    /// Whether the nozzle sprays at time `t` (s), a waypoint up to `slack` (s) after `t` taken
+    /// as reached: as [`NozzlePath::at`] says, but for a time that stands for an instant that a
+    /// waypoint's time may give rounded the other way (see [`NozzlePath::step_slack`]).
+    pub fn sprays(&self, t: f64, slack: f64) -> bool {
+        let i = self.waypoints.partition_point(|p| p.time <= t + slack);
+        i > 0 && self.waypoints[i - 1].spray
+    }
+
+    /// How far (s) a waypoint may lie after the time `t` = step × `dt` of a step (s) and still
+    /// count as reached at that step: a millionth of the step, or a millionth of a millionth of
+    /// `t` where that is more. The two are one instant computed two ways (a waypoint at 0.95 s,
+    /// step 950 of 1 ms at 0.9500000000000001 s, or the other way round), and which rounds lower
+    /// must not decide whether a spraying step is counted; no real path turns its spray on or
+    /// off that close after a step.
+    pub fn step_slack(t: f64, dt: f64) -> f64 {
+        (dt * 1e-6).max(t.abs() * 1e-12)
+    }
+
     /// The nozzle's velocity at time `t` (s), m/s: the travel along the path plus the circle
     /// (in its plane at `t`; the plane's own turning is left out, as slow beside the circle).
     pub fn velocity(&self, t: f64) -> DVec3 {

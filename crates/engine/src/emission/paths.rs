@@ -115,6 +115,10 @@ const CURVED_STEP: f64 = 0.05;
 /// travel speed; each waypoint's spray flag holds for the leg that starts there. On a flat
 /// surface the waypoints are the corners of the zig-zag; on a curved one the legs are cut so
 /// that the nozzle follows the surface.
+///
+/// Every time is computed afresh from the pass's index (the distance travelled before leg `i` is
+/// `⌈i/2⌉` passes and `⌊i/2⌋` step-overs), never by adding up the legs before it, so that no
+/// rounding error accumulates along the path: a pass that should start at 0.75 s starts there.
 pub fn raster_waypoints(chart: &impl Chart, r: &RasterPlan) -> Vec<Waypoint> {
     let [w, h] = r.size;
     // (u, v) unit steps along the passes and across them.
@@ -126,7 +130,9 @@ pub fn raster_waypoints(chart: &impl Chart, r: &RasterPlan) -> Vec<Waypoint> {
     let half = length / 2.0 + r.lead;
     let at =
         |a: f64, b: f64| (r.offset[0] + along.0 * a + across.0 * b, r.offset[1] + along.1 * a + across.1 * b);
-    // Corners of the zig-zag in (u, v), with the spray state of the leg that starts there.
+    let pose = |(u, v): (f64, f64)| (chart.point(u, v, r.standoff), -chart.frame(u, v).0);
+    // Corners of the zig-zag in (u, v), with the spray state of the leg that starts there: leg
+    // 2k is pass k, leg 2k + 1 the step-over after it.
     let mut corners: Vec<((f64, f64), bool)> = Vec::new();
     for k in 0..passes {
         let b = -span / 2.0 + k as f64 * r.step_over;
@@ -134,30 +140,46 @@ pub fn raster_waypoints(chart: &impl Chart, r: &RasterPlan) -> Vec<Waypoint> {
         corners.push((at(from, b), true));
         corners.push((at(to, b), r.spray_on_turns && k + 1 < passes));
     }
-    // Cut the legs on a curved surface.
+    // Each leg cut into pieces: one on a flat surface, enough on a curved one for the nozzle to
+    // follow it.
     let curved = chart.uniform_normal().is_none();
-    let mut points: Vec<((f64, f64), bool)> = Vec::new();
-    for pair in corners.windows(2) {
-        let (((u0, v0), spray), ((u1, v1), _)) = (pair[0], pair[1]);
-        let n = if curved { ((u1 - u0).hypot(v1 - v0) / CURVED_STEP).ceil().max(1.0) as usize } else { 1 };
+    let pieces = |(u0, v0): (f64, f64), (u1, v1): (f64, f64)| {
+        if curved { ((u1 - u0).hypot(v1 - v0) / CURVED_STEP).ceil().max(1.0) as usize } else { 1 }
+    };
+    let cut = |from: (f64, f64), to: (f64, f64), n: usize, j: usize| {
+        let f = j as f64 / n as f64;
+        (from.0 + (to.0 - from.0) * f, from.1 + (to.1 - from.1) * f)
+    };
+    // The length of the nozzle's own path along a leg, m: on a flat surface the leg's length in
+    // the face (the nozzle runs parallel to it), on a curved one the sum of its pieces' chords.
+    // Every pass has the same length, and every step-over: the first of each stands for all.
+    let leg_length = |from: (f64, f64), to: (f64, f64)| {
+        let n = pieces(from, to);
+        if !curved {
+            return (to.0 - from.0).hypot(to.1 - from.1);
+        }
+        (0..n).map(|j| pose(cut(from, to, n, j)).0.distance(pose(cut(from, to, n, j + 1)).0)).sum::<f64>()
+    };
+    let pass_length = leg_length(corners[0].0, corners[1].0);
+    let step_length = corners.get(2).map_or(0.0, |c| leg_length(corners[1].0, c.0));
+    // Distance travelled before leg `i` starts, m: the passes and step-overs before it.
+    let before = |i: usize| (i.div_ceil(2)) as f64 * pass_length + (i / 2) as f64 * step_length;
+    let mut out: Vec<Waypoint> = Vec::with_capacity(corners.len());
+    for (i, pair) in corners.windows(2).enumerate() {
+        let ((from, spray), (to, _)) = (pair[0], pair[1]);
+        let leg = if i % 2 == 0 { pass_length } else { step_length };
+        let n = pieces(from, to);
         for j in 0..n {
-            let f = j as f64 / n as f64;
-            points.push(((u0 + (u1 - u0) * f, v0 + (v1 - v0) * f), spray));
+            let (position, axis) = pose(cut(from, to, n, j));
+            let travelled = before(i) + leg * j as f64 / n as f64;
+            out.push(Waypoint { time: r.start_time + travelled / r.speed, position, axis, spray });
         }
     }
-    points.extend(corners.last().copied());
-    // The poses, and times at constant travel speed along the nozzle's own path.
-    let pose = |(u, v): (f64, f64)| (chart.point(u, v, r.standoff), -chart.frame(u, v).0);
-    let mut out: Vec<Waypoint> = Vec::with_capacity(points.len());
-    for (uv, spray) in points {
-        let (position, axis) = pose(uv);
-        let time =
-            out.last().map_or(r.start_time, |p: &Waypoint| p.time + p.position.distance(position) / r.speed);
-        out.push(Waypoint { time, position, axis, spray });
-    }
     // The path ends, spraying no more, at the last corner.
-    if let Some(last) = out.last_mut() {
-        last.spray = false;
+    if let Some(&(last, _)) = corners.last() {
+        let (position, axis) = pose(last);
+        let time = r.start_time + before(corners.len() - 1) / r.speed;
+        out.push(Waypoint { time, position, axis, spray: false });
     }
     out
 }

@@ -8,7 +8,7 @@
 use super::State;
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
-use crate::emission::{NozzleFrame, Sampler};
+use crate::emission::{NozzleFrame, NozzlePath, Sampler};
 use crate::events::EmissionEvent;
 use crate::particles::{Particle, StreamKey, flags};
 use crate::world::Role;
@@ -53,10 +53,13 @@ pub(super) fn schedule(
     let nozzle_quanta = state.swarm.volumes.nozzle;
     for step in from..to {
         let time = step as f64 * config.dt;
-        let (frame, spraying) = state.nozzle.at(time);
-        if !spraying {
+        // A step sprays when the leg it starts in does; a waypoint that rounds to just after the
+        // step's time is the same instant, so that every spraying step of a leg whose ends fall
+        // on steps is counted, and no step after it.
+        if !state.nozzle.sprays(time, NozzlePath::step_slack(time, config.dt)) {
             continue;
         }
+        let (frame, _) = state.nozzle.at(time);
         let nozzle_velocity = state.nozzle.velocity(time);
         record_path(config, state, &frame, state.nozzle.travel_velocity(time), nozzle_velocity);
         let carried = if config.add_nozzle_velocity { nozzle_velocity } else { DVec3::ZERO };

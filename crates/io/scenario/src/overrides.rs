@@ -208,25 +208,48 @@ fn split_outside_quotes(text: &str, sep: char) -> Option<Vec<&str>> {
     Some(pieces)
 }
 
-/// Applies `overrides` (dotted key, TOML value) to `doc` in order; what each sets or makes is
-/// marked with the override's span ([`OVERRIDE`]). A refusal names the override.
+/// Applies `overrides` (dotted key, TOML value) to `doc` together, so that their order does not
+/// matter: shallower keys first (a table replaced whole, `nozzle={raster={…}}`, before a key
+/// set inside it, `nozzle.raster.speed=1`), and among keys of one depth in the order given (a
+/// key set twice takes the later value). What each sets or makes is marked with the override's
+/// span ([`OVERRIDE`] plus its index as given). A refusal names the override.
 pub(crate) fn apply<'i>(
     doc: &mut DeTable<'i>,
     overrides: &'i [(String, String)],
 ) -> Result<(), ScenarioError> {
+    let mut parsed = Vec::with_capacity(overrides.len());
     for (n, (key, value)) in overrides.iter().enumerate() {
-        let refuse = |message: String| ScenarioError::Invalid {
-            location: format!("--set {key}={value}"),
-            key: key.clone(),
-            message,
-        };
-        let steps = parse_key(key).map_err(refuse)?;
+        let steps = parse_key(key).map_err(refusal(key, value))?;
         let value = DeValue::parse(value)
-            .map_err(|e| refuse(format!("is not a TOML value: {}", e.message().trim())))?
+            .map_err(|e| refusal(key, value)(format!("is not a TOML value: {}", e.message().trim())))?
             .into_inner();
-        set(doc, &steps, value, OVERRIDE + n).map_err(refuse)?;
+        parsed.push((n, steps, value));
+    }
+    // A stable sort: keys of one depth keep the order given.
+    parsed.sort_by_key(|(_, steps, _)| steps.len());
+    for (n, steps, value) in parsed {
+        let (key, text) = &overrides[n];
+        set(doc, &steps, value, OVERRIDE + n).map_err(refusal(key, text))?;
     }
     Ok(())
+}
+
+/// The refusal of the override `key=value`, with what is wrong.
+fn refusal<'a>(key: &'a str, value: &'a str) -> impl Fn(String) -> ScenarioError + 'a {
+    move |message| ScenarioError::Invalid {
+        location: format!("--set {key}={value}"),
+        key: key.to_string(),
+        message,
+    }
+}
+
+/// How many leading parts the dotted keys `a` and `b` share (`nozzle.raster` and
+/// `nozzle.axis` share 1); 0 when either is not a key.
+pub(crate) fn shared_parts(a: &str, b: &str) -> usize {
+    match (parse_key(a), parse_key(b)) {
+        (Ok(a), Ok(b)) => a.iter().zip(&b).take_while(|(x, y)| x.name == y.name).count(),
+        _ => 0,
+    }
 }
 
 /// Sets the key `steps` of `table` to `value`, making the tables on the way; what it sets or

@@ -80,6 +80,27 @@ fn kind(v: &Value<'_>) -> String {
     }
 }
 
+/// A value as TOML text on one line, numbers as written (`"wall"`, `2e4`, `[1, 2]`,
+/// `{target = "wall"}`).
+fn inline(v: &Value<'_>) -> String {
+    match v {
+        Value::String(s) => toml_edit::Value::from(s.as_ref()).to_string().trim().to_string(),
+        Value::Integer(i) => i.to_string(),
+        Value::Float(f) => f.to_string(),
+        Value::Boolean(b) => b.to_string(),
+        Value::Datetime(d) => d.to_string(),
+        Value::Array(items) => {
+            format!("[{}]", items.iter().map(|i| inline(i.get_ref())).collect::<Vec<_>>().join(", "))
+        }
+        Value::Table(t) => {
+            let entries = (t.iter())
+                .map(|(k, v)| format!("{} = {}", key_text(k.get_ref()), inline(v.get_ref())))
+                .collect::<Vec<_>>();
+            format!("{{{}}}", entries.join(", "))
+        }
+    }
+}
+
 /// A number as messages print it: as written for everyday magnitudes (`0.001`, `2500`), in
 /// scientific notation beyond them (`1e308`, `2.5e-9`), always with the fewest digits that
 /// give it back exactly.
@@ -186,6 +207,30 @@ impl<'a> Section<'a> {
     /// True if the file gives `k` here.
     pub fn has(&self, k: &str) -> bool {
         self.table.contains_key(k)
+    }
+
+    /// True if an override (`--set`, [`crate::Scenario::with`]) set `k` here, or made the
+    /// table `k` on its way to a key inside it; false for a key of the file, or one inside a
+    /// table that an override set whole.
+    pub fn set_by_override(&self, k: &str) -> bool {
+        self.table
+            .get_key_value(k)
+            .is_some_and(|(key, _)| crate::overrides::override_of(&key.span()).is_some())
+    }
+
+    /// The dotted path of this section (`nozzle`, `target[1]`; empty for the top level).
+    pub fn path(&self) -> &str {
+        &self.path
+    }
+
+    /// This section's keys but those of `left_out`, as one TOML inline table with the values
+    /// as given (`{roll = 30, raster = {target = "wall"}}`).
+    pub fn inline_without(&self, left_out: &[&str]) -> String {
+        let entries = (self.table.iter())
+            .filter(|(k, _)| !left_out.contains(&k.get_ref().as_ref()))
+            .map(|(k, v)| format!("{} = {}", key_text(k.get_ref()), inline(v.get_ref())))
+            .collect::<Vec<_>>();
+        format!("{{{}}}", entries.join(", "))
     }
 
     fn raw(&self, k: &str) -> Option<&'a Value<'a>> {

@@ -4,7 +4,7 @@ use crate::error::ScenarioError;
 use crate::input::{InputKind, read_input};
 use crate::overrides::{self, Value};
 use crate::params::*;
-use crate::reader::{Read, Section, Table};
+use crate::reader::{Invalid, Read, Section, Table};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -22,7 +22,8 @@ pub(crate) struct Source {
     origin: String,
     /// The folder its relative paths start from.
     base: PathBuf,
-    /// `(dotted key, TOML value)` overrides, in order.
+    /// `(dotted key, TOML value)` overrides, in the order given (their index names them in
+    /// errors).
     overrides: Vec<(String, String)>,
 }
 
@@ -120,11 +121,26 @@ impl Scenario {
         self.with_all(&[(key.to_string(), value.into())])
     }
 
-    /// [`Scenario::with`] for several keys at once, applied in order.
+    /// [`Scenario::with`] for several keys at once: they are applied together and the result
+    /// checked once, so their order does not matter (`nozzle.circle_radius` and
+    /// `nozzle.circle_frequency` may come either way round). A table set whole
+    /// (`nozzle={raster={target="wall"}}`, which replaces the file's table, keys of another
+    /// motion and all) takes the keys set inside it by the others; a key set twice takes the
+    /// later value. A refusal is located at the override it comes from, even when the key it
+    /// names is the file's (a raster set into a file's static nozzle names the raster's
+    /// override, not the file's `axis`).
     pub fn with_all(&self, overrides: &[(String, Value)]) -> Result<Scenario, ScenarioError> {
         let mut source = self.source.clone();
         source.overrides.extend(overrides.iter().map(|(k, v)| (k.clone(), v.to_toml())));
         Scenario::parse(source)
+    }
+
+    /// [`Scenario::with_all`] from `KEY=VALUE` texts, as the command line's `--set`s give them
+    /// (see [`Scenario::with_assignment`]): applied together and checked once.
+    pub fn with_assignments<S: AsRef<str>>(&self, assignments: &[S]) -> Result<Scenario, ScenarioError> {
+        let overrides =
+            assignments.iter().map(|a| overrides::split(a.as_ref())).collect::<Result<Vec<_>, _>>()?;
+        self.with_all(&overrides)
     }
 
     /// [`Scenario::with`] from `KEY=VALUE` text, as the command line's `--set` gives it: the
@@ -136,6 +152,14 @@ impl Scenario {
     }
 
     fn parse(source: Source) -> Result<Scenario, ScenarioError> {
+        Scenario::parse_with(source, true)
+    }
+
+    /// Parses and validates `source`. A refusal is located at the key's line, or at the
+    /// override that set it; with overrides, one whose key is the file's (or nobody's) is put
+    /// on the override it comes from (found by leaving each out, when `find_override`): the
+    /// text alone was a valid scenario, so the overrides made it wrong.
+    fn parse_with(source: Source, find_override: bool) -> Result<Scenario, ScenarioError> {
         let (text, origin) = (&*source.text, source.origin.as_str());
         control_characters(text, origin)?;
         // One parse, kept with the spans of every key and value: errors found while reading
@@ -144,7 +168,13 @@ impl Scenario {
             toml::de::DeTable::parse(text).map_err(|e| syntax_error(text, origin, &e))?.into_inner();
         overrides::apply(&mut doc, &source.overrides)?;
         Scenario::resolve(&doc, &source).map_err(|inv| {
-            let location = match locate(&doc, text, &inv.key) {
+            let place = match locate(&doc, text, &inv.key) {
+                Place::Line(_) | Place::Nowhere if find_override && !source.overrides.is_empty() => {
+                    Place::Override(cause(&source, &inv))
+                }
+                place => place,
+            };
+            let location = match place {
                 Place::Override(i) => match source.overrides.get(i) {
                     Some((k, v)) => format!("--set {k}={v}"),
                     None => origin.to_string(),
@@ -439,6 +469,36 @@ fn locate(doc: &Table<'_>, text: &str, key: &str) -> Place {
         }
     }
     best
+}
+
+/// The override (its index) that the refusal `inv` of `source` comes from, for a refusal whose
+/// key the file gave (or nobody did): `source`'s text is a valid scenario alone, so one of its
+/// overrides made it wrong. Those without which the refusal goes away (or changes) are the
+/// suspects; of them (or of all, when leaving out any one keeps it) the one whose key shares
+/// the most parts with the refusal's key, the latest given among equals.
+fn cause(source: &Source, inv: &Invalid) -> usize {
+    let all: Vec<usize> = (0..source.overrides.len()).collect();
+    let suspects: Vec<usize> = if all.len() == 1 {
+        all.clone()
+    } else {
+        (all.iter().copied())
+            .filter(|&i| {
+                let mut without = source.clone();
+                without.overrides.remove(i);
+                match Scenario::parse_with(without, false) {
+                    Ok(_) => true,
+                    Err(ScenarioError::Invalid { key, message, .. }) => {
+                        key != inv.key || message != inv.message
+                    }
+                    Err(_) => true,
+                }
+            })
+            .collect()
+    };
+    let pool = if suspects.is_empty() { &all } else { &suspects };
+    (pool.iter().copied())
+        .max_by_key(|&i| (overrides::shared_parts(&source.overrides[i].0, &inv.key), i))
+        .unwrap_or(0)
 }
 
 /// Largest k·|v|·Δt accepted with drag: beyond 1 an explicit step reverses the velocity.

@@ -1,8 +1,11 @@
-//! Robot tool paths from CSV: `t,x,y,z,qx,qy,qz,qw[,spray]`, one pose a row.
+//! Robot tool paths from CSV: `t,x,y,z,qx,qy,qz,qw[,spray]`, one pose a row: the time (s),
+//! the tool's position in the world frame (z up; in metres or millimetres, as the scenario
+//! says) and its orientation as a quaternion (no unit), its z axis the spray axis.
 
 use crate::error::ScenarioError;
 use crate::input::{InputKind, read_input};
-use crate::reader::{MAX_COORD, Num};
+use crate::params::LengthUnit;
+use crate::reader::{Choice, MAX_COORD, Num};
 
 /// One pose of a tool path.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,13 +27,13 @@ const COLUMNS: [&str; 8] = ["t", "x", "y", "z", "qx", "qy", "qz", "qw"];
 /// Latest time a pose may have, s (as for a waypoint).
 const MAX_TIME: f64 = 1e6;
 
-/// Reads a tool path, a regular file of at most [`InputKind::ToolPath`]'s cap. Columns are
-/// found by their header names (any order); `spray` is optional (`1`/`0` or `true`/`false`,
-/// default on). The spray axis is the tool's z axis rotated by the quaternion. Times must
-/// increase from row to row, positions lie within [`MAX_COORD`] of the origin, and the axis
-/// may not turn by 180° from one row to the next. Errors name the file, the line and the
-/// column.
-pub(crate) fn read(path: &Path) -> Result<Vec<Pose>, ScenarioError> {
+/// Reads a tool path, a regular file of at most [`InputKind::ToolPath`]'s cap, its positions in
+/// `units` (converted to metres before anything is checked). Columns are found by their header
+/// names (any order); `spray` is optional (`1`/`0` or `true`/`false`, default on). The spray
+/// axis is the tool's z axis rotated by the quaternion. Times must increase from row to row,
+/// positions lie within [`MAX_COORD`] of the origin, and the axis may not turn by 180° from one
+/// row to the next. Errors name the file, the line and the column.
+pub(crate) fn read(path: &Path, units: LengthUnit) -> Result<Vec<Pose>, ScenarioError> {
     let origin = path.display().to_string();
     let syntax = |line: Option<u64>, message: String| ScenarioError::Syntax {
         location: line.map_or(origin.clone(), |l| format!("{origin}:{l}")),
@@ -59,7 +62,8 @@ pub(crate) fn read(path: &Path) -> Result<Vec<Pose>, ScenarioError> {
     for record in reader.records() {
         let record = record.map_err(|e| syntax(e.position().map(|p| p.line()), e.to_string()))?;
         let line = record.position().map(|p| p.line());
-        let pose = pose(&record, &index, spray_col, out.last()).map_err(|message| syntax(line, message))?;
+        let pose =
+            pose(&record, &index, spray_col, units, out.last()).map_err(|message| syntax(line, message))?;
         out.push(pose);
     }
     if out.is_empty() {
@@ -68,12 +72,14 @@ pub(crate) fn read(path: &Path) -> Result<Vec<Pose>, ScenarioError> {
     Ok(out)
 }
 
-/// The pose of one row, its columns at `index` (in the order of [`COLUMNS`]) and `spray` at
-/// `spray_col`, checked against the row before it; or what is wrong with it.
+/// The pose of one row, its columns at `index` (in the order of [`COLUMNS`]), its position in
+/// `units`, and `spray` at `spray_col`, checked against the row before it; or what is wrong
+/// with it.
 fn pose(
     record: &csv::StringRecord,
     index: &[usize; 8],
     spray_col: Option<usize>,
+    units: LengthUnit,
     previous: Option<&Pose>,
 ) -> Result<Pose, String> {
     let mut v = [0.0; 8];
@@ -98,14 +104,23 @@ fn pose(
             Num(p.time)
         ));
     }
-    let position = [v[1], v[2], v[3]];
+    // In metres before any check: a division, so that a whole number of millimetres gives the
+    // metres a file in metres would (1500 mm is 1.5 m exactly).
+    let position = [v[1], v[2], v[3]].map(|c| c / units.per_metre());
     if let Some(k) = position.iter().position(|c| c.abs() > MAX_COORD) {
-        return Err(format!(
-            "column `{}`: {} m is beyond ±{} m, farther than any coordinate may be",
-            COLUMNS[k + 1],
-            Num(position[k]),
-            Num(MAX_COORD)
-        ));
+        let (column, given) = (COLUMNS[k + 1], Num(v[k + 1]));
+        let (metres, limit) = (Num(position[k]), Num(MAX_COORD));
+        return Err(match units {
+            LengthUnit::Metres => format!(
+                "column `{column}`: {metres} m is beyond ±{limit} m, farther than any coordinate may be \
+                 (for a file in millimetres, set nozzle.path_csv = {{ file = \"…\", units = \"mm\" }})"
+            ),
+            LengthUnit::Millimetres => format!(
+                "column `{column}`: {given} {} ({metres} m) is beyond ±{limit} m, farther than any coordinate \
+                 may be",
+                units.name()
+            ),
+        });
     }
     let axis = spray_axis([v[4], v[5], v[6], v[7]])
         .ok_or("the quaternion (qx, qy, qz, qw) is zero (or too small to give a direction)")?;

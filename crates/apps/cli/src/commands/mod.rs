@@ -25,16 +25,14 @@ pub fn write_out(text: &str) -> Result<()> {
     Ok(())
 }
 
-/// The scenario at `path` (the default scene without one), with the `--set` overrides; its
-/// warnings go to stderr.
+/// The scenario at `path` (the default scene without one), with the `--set` overrides applied
+/// together and checked once (their order does not matter); its warnings go to stderr.
 pub fn load(path: Option<&Path>, set: &[String]) -> Result<Scenario> {
-    let mut sc = match path {
+    let sc = match path {
         Some(p) => Scenario::from_path(p)?,
         None => Scenario::default_scene(),
     };
-    for assignment in set {
-        sc = sc.with_assignment(assignment)?;
-    }
+    let sc = if set.is_empty() { sc } else { sc.with_assignments(set)? };
     for w in sc.warnings() {
         eprintln!("warning: {w}");
     }

@@ -21,6 +21,7 @@ mod targets;
 pub use emitter::{Aperture, DirectionLaw, EmitterParams};
 pub(crate) use emitter::{ApertureKind, DirectionKind, EmitterDefaults};
 pub use mesh::MeshParams;
+pub(crate) use nozzle::LengthUnit;
 pub use nozzle::{NozzleMotion, NozzleParams, RasterParams, WaypointParams};
 pub use obstacles::{
     BoxObstacle, CylinderObstacle, DiskObstacle, FaceObstacle, ObstacleParams, ObstacleShape, PlaneObstacle,

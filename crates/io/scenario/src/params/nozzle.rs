@@ -93,11 +93,9 @@ pub(crate) fn read(
 ) -> Read<NozzleParams> {
     let roll = s.number("roll", Some(0.0), Check::Within(-360.0, 360.0), "degrees")?;
     let add_velocity = s.boolean("add_velocity", false)?;
+    one_motion(s)?;
     let listed = s.has("waypoints") || s.has("path_csv");
     let motion = if let Some(r) = s.table("raster")? {
-        if listed {
-            return bad(&s.key("raster"), "cannot be combined with nozzle.waypoints or nozzle.path_csv");
-        }
         NozzleMotion::Raster { raster: read_raster(&r, targets)? }
     } else if listed {
         NozzleMotion::Waypoints { waypoints: read_waypoints(s, base)? }
@@ -112,6 +110,66 @@ pub(crate) fn read(
     };
     s.finish(what)?;
     Ok(NozzleParams { roll, add_velocity, motion })
+}
+
+/// The motions of a nozzle, each named as messages name it, with the keys that choose it (the
+/// others, `roll` and `add_velocity`, go with every motion).
+const MOTIONS: [(&str, &[&str]); 3] = [
+    ("a raster nozzle", &["raster"]),
+    ("a nozzle on waypoints", &["waypoints", "path_csv"]),
+    ("a static or circling nozzle", &["position", "axis", "circle_radius", "circle_frequency"]),
+];
+
+/// Refuses a `[nozzle]` that gives the keys of two motions (a raster and a static `axis`): a
+/// nozzle moves one way. The key blamed is one an override set, if any (so that the refusal
+/// names the override), else the one that chooses the motion read first (`raster`, then the
+/// waypoints). When an override set it, the message says how to change the motion instead:
+/// by replacing the whole table, without the other motion's keys.
+fn one_motion(s: &Section<'_>) -> Read<()> {
+    let given: Vec<(usize, &str)> = (MOTIONS.iter().enumerate())
+        .flat_map(|(m, (_, keys))| keys.iter().filter(|k| s.has(k)).map(move |k| (m, *k)))
+        .collect();
+    let Some(&(first, _)) = given.first() else { return Ok(()) };
+    if given.iter().all(|(m, _)| *m == first) {
+        return Ok(());
+    }
+    let (motion, blamed) = given.iter().copied().find(|(_, k)| s.set_by_override(k)).unwrap_or(given[0]);
+    let others: Vec<&str> = given.iter().filter(|(m, _)| *m != motion).map(|(_, k)| *k).collect();
+    let other_motions: Vec<usize> = given.iter().filter(|(m, _)| *m != motion).map(|(m, _)| *m).collect();
+    let named = others.iter().map(|k| format!("`{}`", s.key(k))).collect::<Vec<_>>();
+    let named = match named.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => named.join(""),
+    };
+    let keys = if others.len() == 1 { "a key" } else { "keys" };
+    let whose = if other_motions.iter().all(|m| *m == other_motions[0]) {
+        format!("{keys} of {}", MOTIONS[other_motions[0]].0)
+    } else {
+        format!("{keys} of other motions")
+    };
+    let raster = given.iter().any(|(_, k)| *k == "raster");
+    let circles = if raster && given.iter().any(|(_, k)| k.starts_with("circle_")) {
+        " (a raster circles with its own circle_radius and circle_frequency, in [nozzle.raster])"
+    } else {
+        ""
+    };
+    let remedy = if s.set_by_override(blamed) {
+        format!(
+            "to change how it moves, set the whole table, which replaces the scenario's: {}={}",
+            s.path(),
+            s.inline_without(&others)
+        )
+    } else {
+        "give the keys of one motion only".to_string()
+    };
+    bad(
+        &s.key(blamed),
+        format!(
+            "belongs to {}, but [{}] also has {named}, {whose}{circles}: a nozzle moves one way only; {remedy}",
+            MOTIONS[motion].0,
+            s.path(),
+        ),
+    )
 }
 
 /// A static or circling nozzle.
@@ -132,16 +190,52 @@ fn read_pose(s: &Section<'_>, duration: f64) -> Read<NozzleMotion> {
     Ok(NozzleMotion::Circling { position, axis, circle_radius: radius, circle_frequency: frequency })
 }
 
+/// The unit of a tool path's positions (`nozzle.path_csv`'s `units`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum LengthUnit {
+    /// Metres, as everywhere else in a scenario.
+    Metres,
+    /// Millimetres, as robot controllers often write them.
+    Millimetres,
+}
+
+choices!(LengthUnit { "m" => LengthUnit::Metres, "mm" => LengthUnit::Millimetres });
+
+impl LengthUnit {
+    /// How many of the unit make a metre.
+    pub(crate) fn per_metre(self) -> f64 {
+        match self {
+            LengthUnit::Metres => 1.0,
+            LengthUnit::Millimetres => 1000.0,
+        }
+    }
+}
+
+/// `nozzle.path_csv`, if given: the file (relative to the scenario's folder) and the unit of
+/// its positions. A string is the file, in metres; a table gives `file` and `units`.
+fn read_path_csv(s: &Section<'_>) -> Read<Option<(String, LengthUnit)>> {
+    if !s.is_table("path_csv") {
+        let file = s.string("path_csv", Some(""))?;
+        return Ok((!file.is_empty()).then_some((file, LengthUnit::Metres)));
+    }
+    let Some(t) = s.table("path_csv")? else { return Ok(None) };
+    let file = t.string("file", None)?;
+    if file.is_empty() {
+        return bad(&t.key("file"), "must name a CSV file");
+    }
+    let units = t.choice("units", Some(LengthUnit::Metres))?;
+    t.finish("nozzle.path_csv")?;
+    Ok(Some((file, units)))
+}
+
 fn read_waypoints(s: &Section<'_>, base: &Path) -> Read<Vec<WaypointParams>> {
-    let csv = s.string("path_csv", Some(""))?;
+    let csv = read_path_csv(s)?;
     let listed = s.tables("waypoints")?;
-    let waypoints = if csv.is_empty() {
-        listed.iter().map(read_waypoint).collect::<Read<Vec<_>>>()?
-    } else {
+    let waypoints = if let Some((csv, units)) = csv {
         if !listed.is_empty() {
             return bad(&s.key("path_csv"), "cannot be combined with nozzle.waypoints");
         }
-        let poses = crate::tool_path::read(&base.join(&csv)).map_err(|e| crate::reader::Invalid {
+        let poses = crate::tool_path::read(&base.join(&csv), units).map_err(|e| crate::reader::Invalid {
             key: s.key("path_csv"),
             message: format!("cannot be used: {e}"),
         })?;
@@ -149,6 +243,8 @@ fn read_waypoints(s: &Section<'_>, base: &Path) -> Read<Vec<WaypointParams>> {
             .into_iter()
             .map(|p| WaypointParams { time: p.time, position: p.position, axis: p.axis, spray: p.spray })
             .collect()
+    } else {
+        listed.iter().map(read_waypoint).collect::<Read<Vec<_>>>()?
     };
     if waypoints.is_empty() {
         return bad(&s.key("waypoints"), "must hold at least one waypoint");
