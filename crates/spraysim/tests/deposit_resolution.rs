@@ -149,3 +149,30 @@ fn an_explicit_radius_is_kept() {
     assert_eq!(again, derived);
     assert_eq!(again.targets()[0].shape.splat_radius().map(|s| s.radius), Some(3.0 * CELL));
 }
+
+#[test]
+fn a_pass_spreads_its_particles_over_the_band_it_sweeps() {
+    // A 0.6 m pass along the panel in 1 s: the spot sweeps a band 2 R wide with round ends.
+    let text = format!(
+        "[simulation]\nduration = 1.0\n[process]\npreset = \"painting\"\n\
+         [[nozzle.waypoints]]\ntime = 0.0\nposition = [{x:?}, -0.3, 1.0]\naxis = [1.0, 0.0, 0.0]\n\
+         [[nozzle.waypoints]]\ntime = 1.0\nposition = [{x:?}, 0.3, 1.0]\naxis = [1.0, 0.0, 0.0]\n\
+         [[target]]\nname = \"panel\"\ncenter = [0.0, 0.0, 1.0]\nnormal = [-1.0, 0.0, 0.0]\n\
+         up = [0.0, 0.0, 1.0]\nsize = [{SIDE:?}, {SIDE:?}]\n",
+        x = -STANDOFF
+    );
+    let sc = Scenario::from_toml(&text, "a pass").unwrap_or_else(|e| panic!("{e}"));
+    let splat = sc.targets()[0].shape.splat_radius().expect("a heightfield");
+    let r = spot_radius();
+    let band = 0.6 * 2.0 * r + std::f64::consts::PI * r * r;
+    let per_cell = sc.emitter().spawn_rate * 1.0 * CELL * CELL / band;
+    let expected = footprint_cells((CELL, CELL), splat.radius) as f64 * per_cell;
+    let derived = splat.expected_particles.expect("derived");
+    assert!((derived / expected - 1.0).abs() < 0.02, "{derived} particles per splat, {expected} by hand");
+    assert!(derived >= PARTICLES_PER_SPLAT);
+    // Spread over a band about 5 times the spot, each cell expects less than from the
+    // nozzle standing still for the same time: the splat is wider.
+    let still = painting("").with("simulation.duration", 1.0).unwrap_or_else(|e| panic!("{e}"));
+    let still_radius = still.targets()[0].shape.splat_radius().map_or(0.0, |s| s.radius);
+    assert!(splat.radius > still_radius, "{} m against {still_radius} m", splat.radius);
+}
