@@ -3,7 +3,7 @@ thickness on a wall region with the smallest coefficient of variation (see raste
 
 Trials are asked for in batches and each batch runs in parallel inside Rust with
 spraysim.run_many; the best raster is printed and run again to write its outputs, among them
-the heatmap optuna_best/wall_thickness.png.
+the heatmap out/optuna_raster/wall_thickness.png.
 
     pip install ./python optuna
     python examples/python/optuna_raster.py [--trials 40] [--batch 4] [--threads 0]
@@ -25,7 +25,7 @@ def main():
     parser.add_argument("--trials", type=int, default=40)
     parser.add_argument("--batch", type=int, default=4, help="trials run in parallel at once")
     parser.add_argument("--threads", type=int, default=0, help="worker threads (0: one per core)")
-    parser.add_argument("--output", default="optuna_best")
+    parser.add_argument("--output", default="out/optuna_raster", help="output folder")
     a = parser.parse_args()
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)

@@ -16,7 +16,7 @@ raster per array task, each writing its own outputs (metrics.json holds the resu
     #SBATCH --array=0-26
     STEPS=(0.08 0.165 0.25); SPEEDS=(0.5 1.0 1.5); STANDOFFS=(1.0 1.5 2.0)
     i=$SLURM_ARRAY_TASK_ID
-    spraysim run wall.toml -j "$SLURM_CPUS_PER_TASK" -q -o "sweep/$i" \\
+    spraysim run wall.toml -j "$SLURM_CPUS_PER_TASK" -q -o "out/ray_raster/$i" \\
         --set nozzle.raster.step_over=${STEPS[i / 9]} \\
         --set nozzle.raster.speed=${SPEEDS[i / 3 % 3]} \\
         --set nozzle.raster.standoff=${STANDOFFS[i % 3]}

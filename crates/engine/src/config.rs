@@ -85,6 +85,9 @@ pub struct TargetConfig {
     /// Cells closer than this to the surface's edges or openings are left out of the thickness
     /// statistics, m (0: none).
     pub margin: f64,
+    /// The radius each stuck particle's volume is spread over, m, as the metrics report it
+    /// (`None` for a surface without a splat, a mesh); the surface itself holds its footprint.
+    pub splat_radius: Option<f64>,
 }
 
 /// Wear of a target by abrasive impacts: a coating (paint, epoxy) on a substrate (steel), each
@@ -270,6 +273,7 @@ impl SimulationConfig {
                 erosion: None,
                 tolerance: None,
                 margin: 0.0,
+                splat_radius: Some(0.0),
             }],
             obstacles: Vec::new(),
             domain: Aabb { min: DVec3::new(-2.0, -2.0, -1.0), max: DVec3::new(1.0, 2.0, 3.0) },

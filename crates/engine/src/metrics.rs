@@ -228,6 +228,9 @@ pub struct TargetMetrics {
     pub erosion: Option<ErosionStats>,
     /// Share of cells whose wet film risks sagging (with a sag threshold), 0..1.
     pub sag_risk_fraction: Option<f64>,
+    /// The radius each stuck particle's volume was spread over, m (0: the struck cell only;
+    /// `null` for a mesh, which deposits per triangle).
+    pub splat_radius: Option<f64>,
 }
 
 /// Erosion of one target.
@@ -466,6 +469,7 @@ impl Simulation {
             hits_per_cm2: hits / (area * 1e4),
             erosion,
             sag_risk_fraction,
+            splat_radius: tc.splat_radius,
         }
     }
 

@@ -88,8 +88,8 @@ pub struct ResumeArgs {
 /// `spraysim check`'s arguments.
 #[derive(Args)]
 pub struct CheckArgs {
-    /// Scenario file (TOML).
-    pub scenario: PathBuf,
+    /// Scenario file (TOML); without one, the built-in default scene (as `run` runs it).
+    pub scenario: Option<PathBuf>,
     /// Override a scenario value (see `run --set`).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -131,9 +131,9 @@ pub struct CalibrateArgs {
     /// Stop when the simplex's RMS errors agree within this fraction of the peak.
     #[arg(long, default_value_t = 1e-5)]
     pub tolerance: f64,
-    /// Output directory.
-    #[arg(short, long, default_value = "calibration")]
-    pub output: PathBuf,
+    /// Output directory (default: the scenario's `[output] directory`).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
     /// Worker threads per simulation; 0 uses every core.
     #[arg(short = 'j', long, default_value_t = 0)]
     pub threads: usize,

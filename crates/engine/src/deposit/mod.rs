@@ -19,7 +19,7 @@ mod sums;
 
 pub use chart::{Chart, ShellChart};
 pub use grid::{CylinderSurface, GridSurface, RectangleSurface};
-pub use heightfield::HeightField;
+pub use heightfield::{HeightField, footprint_cells};
 pub use mesh::{MeshError, MeshSurface};
 pub use openings::Opening;
 pub use pending::{Gathered, Pending, WEAR_QUANTUM, share, wear_quanta};

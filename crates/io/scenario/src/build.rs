@@ -103,6 +103,7 @@ fn config(sc: &Scenario) -> SimulationConfig {
             }),
             tolerance: t.tolerance,
             margin: t.margin,
+            splat_radius: t.shape.splat_radius().map(|s| s.radius),
         })
         .collect();
     let obstacles = sc

@@ -36,6 +36,7 @@ mod presets;
 mod reader;
 mod scenario;
 pub mod scenes;
+mod splat;
 mod tool_path;
 
 pub use budget::{Budget, MemoryPart, bytes_text, default_memory_limit, machine_memory};

@@ -209,7 +209,7 @@ impl Scenario {
         let output = read::output(&root.table_or_empty("output")?, process.preset, simulation.duration)?;
         root.finish("a scenario")?;
         stable_drag(&simulation, &process, &emitter)?;
-        let scenario = Scenario {
+        let mut scenario = Scenario {
             source: source.clone(),
             simulation,
             process,
@@ -220,6 +220,14 @@ impl Scenario {
             domain,
             output,
         };
+        // A target without a splat radius gets one from the particles expected per cell.
+        let radii = crate::splat::derived_radii(&scenario);
+        for (t, radius) in scenario.targets.iter_mut().zip(radii) {
+            if let (Some(splat), Some((radius, expected))) = (t.shape.splat_radius_mut(), radius) {
+                splat.radius = radius;
+                splat.expected_particles = Some(expected);
+            }
+        }
         fits_in_memory(&scenario)?;
         Ok(scenario)
     }

@@ -139,8 +139,13 @@ fn cone_scene(dir: &str, h: f64, half_deg: f64, size: f64, cols: usize, rate: f6
             {floor}
             "#,
             cone = 2.0 * half_deg,
-            floor =
-                floor().substrate().at([0.0, 0.0, 0.0]).size(size, size).resolution(cols as u32, cols as u32),
+            // Each particle in the cell it strikes: the closed form is the density per cell.
+            floor = floor()
+                .substrate()
+                .at([0.0, 0.0, 0.0])
+                .size(size, size)
+                .resolution(cols as u32, cols as u32)
+                .splat_radius(0.0),
         ),
         "cone",
     )

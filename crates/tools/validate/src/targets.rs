@@ -78,6 +78,7 @@ pub fn shell_scene(particles: f64) -> Scenario {
         reference = [1.0, 0.0, 0.0]
         angles = [-180.0, 180.0]
         resolution = [360, 160]
+        splat_radius = 0.0 # each particle in the cell it strikes: the law is the density per cell
         "#,
         cone = 2.0 * HALF_DEG,
         rate = particles / 0.1,

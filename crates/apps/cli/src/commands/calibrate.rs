@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use spraysim::Scenario;
 use spraysim_calibrate::{Calibration, CalibrationSettings, FitParam, MeasuredProfile, ProfileShape};
+use std::path::PathBuf;
 
 impl From<Fit> for FitParam {
     fn from(f: Fit) -> FitParam {
@@ -54,8 +55,10 @@ fn settings(args: &CalibrateArgs) -> Result<CalibrationSettings> {
 /// Fits the emitter to a measured profile and writes the results.
 pub fn calibrate(args: &CalibrateArgs) -> Result<()> {
     let settings = settings(args)?;
-    let (output, quiet) = (&args.output, args.quiet);
+    let quiet = args.quiet;
     let scenario = Scenario::from_path(&args.scenario)?;
+    // `-o DIR`, else where the scenario's runs write.
+    let output = &args.output.clone().unwrap_or_else(|| PathBuf::from(&scenario.output().directory));
     let measured = MeasuredProfile::from_path(&args.profile)?;
     spraysim::check_threads(settings.threads)?;
     // Nelder–Mead's evaluation count is not known in advance: a spinner with the best error.

@@ -10,6 +10,8 @@ mod contact;
 mod means;
 mod splat;
 
+pub use splat::footprint_cells;
+
 use super::pyramid::MaxPyramid;
 use super::sums::BlockSums;
 use crate::checkpoint::{Dec, Enc, StateError};

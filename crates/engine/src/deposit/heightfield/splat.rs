@@ -22,6 +22,13 @@ pub(super) fn footprint((dx, dy): (f64, f64), radius: f64) -> (Vec<(isize, isize
     (splat, (reach_x, reach_y))
 }
 
+/// How many cells the deposit footprint of `radius` (m) on cells of `(dx, dy)` (m) spans in
+/// the interior of a grid: the struck cell and those whose centres lie within `radius` of its
+/// centre (1 where `radius` is below a cell).
+pub fn footprint_cells(cell: (f64, f64), radius: f64) -> usize {
+    footprint(cell, radius).0.len()
+}
+
 impl HeightField {
     /// Calls `visit` with `cell`, then each other cell of the splat footprint around it that
     /// lies inside the grid and is not cut away, in the footprint's fixed order: the cells a

@@ -38,11 +38,11 @@ pub use rebound::{
 };
 pub use render::{ParticleColoring, RenderCamera, RenderParams, RenderTime, ViewPreset, point_size};
 pub use run::{Colormap, DEFAULT_LAYER_EPOCH, DomainParams, ExportFormat, OutputParams, SimulationParams};
-pub(crate) use targets::RasterChart;
 pub use targets::{
-    CylinderTarget, Edges, MeshSide, MeshTarget, OpeningParams, RectangleTarget, ShellSide, TargetParams,
-    TargetShape, mean_plane, opening,
+    CylinderTarget, Edges, MAX_SPLAT_CELLS, MeshSide, MeshTarget, OpeningParams, PARTICLES_PER_SPLAT,
+    RectangleTarget, ShellSide, SplatRadius, TargetParams, TargetShape, mean_plane, opening,
 };
+pub(crate) use targets::{RasterChart, smallest_radius};
 
 /// A point or vector of a file as the engine's vector.
 pub(crate) fn v3(a: [f64; 3]) -> glam::DVec3 {

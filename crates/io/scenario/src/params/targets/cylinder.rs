@@ -1,7 +1,7 @@
 //! `shape = "cylinder"`: a cylindrical shell with a heightfield on its unrolled surface (a
 //! tunnel lining, a shaft, a pipe, a tank).
 
-use super::{Edges, RasterChart, TargetGeometry, heightfield_storage, resolution, splat_radius};
+use super::{Edges, RasterChart, SplatRadius, TargetGeometry, heightfield_storage, resolution, splat_radius};
 use crate::budget::Storage;
 use crate::params::v3;
 use crate::reader::{Check, Read, Section, bad, choices, not_parallel};
@@ -30,8 +30,9 @@ pub struct CylinderTarget {
     pub side: ShellSide,
     /// Heightfield cells `[around, along]`.
     pub resolution: [u32; 2],
-    /// Radius over which each stuck particle's volume is spread, m (0: one cell).
-    pub splat_radius: f64,
+    /// Radius over which each stuck particle's volume is spread, m (0: one cell), as the file
+    /// gives it or derived from the particles expected per cell.
+    pub splat_radius: SplatRadius,
     /// What the shell's edges do to a slumping layer.
     pub edges: Edges,
 }
@@ -94,7 +95,7 @@ impl TargetGeometry for CylinderTarget {
         let [cols, rows] = self.resolution.map(|r| r as usize);
         // Reading checked the shell: its chart exists.
         let chart = self.chart().unwrap_or_else(|| unreachable!("checked when read"));
-        let shell = CylinderSurface::new(chart, cols, rows, self.splat_radius);
+        let shell = CylinderSurface::new(chart, cols, rows, self.splat_radius.radius);
         Surface::Cylinder(shell.with_held_edges(self.edges == Edges::Held))
     }
 

@@ -9,10 +9,13 @@
 mod cylinder;
 mod mesh;
 mod rectangle;
+mod splat;
 
 pub use cylinder::{CylinderTarget, ShellSide};
 pub use mesh::{MeshSide, MeshTarget, mean_plane};
 pub use rectangle::{OpeningParams, RectangleTarget, opening};
+pub(crate) use splat::smallest_radius;
+pub use splat::{MAX_SPLAT_CELLS, PARTICLES_PER_SPLAT, SplatRadius};
 
 use super::process::ImpactParams;
 use super::registry::kinds;
@@ -192,13 +195,47 @@ fn heightfield_storage(resolution: [u32; 2]) -> Storage {
     Storage { key: "resolution", what: format!("{cells} cells"), bytes: cells * PER_CELL }
 }
 
-/// The splat radius for a grid of `size` (m) and `resolution`, m: at most half the smaller side
-/// and 32 cells.
-fn splat_radius(s: &Section<'_>, size: [f64; 2], resolution: [u32; 2]) -> Read<f64> {
-    let r = s.number("splat_radius", Some(0.0), Check::Within(0.0, size[0].min(size[1]) / 2.0), "m")?;
+/// The splat radius for a grid of `size` (m) and `resolution`: the file's, m, at most half the
+/// smaller side and [`MAX_SPLAT_CELLS`] cells; without one, to be derived once the whole
+/// scenario is read (see [`SplatRadius`]).
+fn splat_radius(s: &Section<'_>, size: [f64; 2], resolution: [u32; 2]) -> Read<SplatRadius> {
+    if !s.has("splat_radius") {
+        return Ok(SplatRadius::to_derive());
+    }
+    let r = s.number("splat_radius", None, Check::Within(0.0, size[0].min(size[1]) / 2.0), "m")?;
     let cells = r / (size[0] / f64::from(resolution[0])).min(size[1] / f64::from(resolution[1]));
-    if cells > 32.0 {
+    if cells > MAX_SPLAT_CELLS {
         return bad(&s.key("splat_radius"), "spans more than 32 cells; lower it or the resolution");
     }
-    Ok(r)
+    Ok(SplatRadius::given(r))
+}
+
+impl TargetShape {
+    /// The splat radius of a heightfield target (`None` for a mesh, which deposits per
+    /// triangle).
+    pub fn splat_radius(&self) -> Option<SplatRadius> {
+        match self {
+            TargetShape::Rectangle(r) => Some(r.splat_radius),
+            TargetShape::Cylinder(c) => Some(c.splat_radius),
+            TargetShape::Mesh(_) => None,
+        }
+    }
+
+    /// The splat radius of a heightfield target, to set a derived one.
+    pub(crate) fn splat_radius_mut(&mut self) -> Option<&mut SplatRadius> {
+        match self {
+            TargetShape::Rectangle(r) => Some(&mut r.splat_radius),
+            TargetShape::Cylinder(c) => Some(&mut c.splat_radius),
+            TargetShape::Mesh(_) => None,
+        }
+    }
+
+    /// Heightfield cells `[cols, rows]` of a heightfield target (`None` for a mesh).
+    pub fn resolution(&self) -> Option<[u32; 2]> {
+        match self {
+            TargetShape::Rectangle(r) => Some(r.resolution),
+            TargetShape::Cylinder(c) => Some(c.resolution),
+            TargetShape::Mesh(_) => None,
+        }
+    }
 }

@@ -1,7 +1,7 @@
 //! `shape = "rectangle"`: a flat face with a regular heightfield (a wall, a slab, a floor),
 //! with openings cut out of it (`[[target.opening]]`).
 
-use super::{Edges, RasterChart, TargetGeometry, heightfield_storage, resolution, splat_radius};
+use super::{Edges, RasterChart, SplatRadius, TargetGeometry, heightfield_storage, resolution, splat_radius};
 use crate::budget::Storage;
 use crate::params::v3;
 use crate::reader::{Check, Read, Section, bad, choices, not_parallel};
@@ -24,8 +24,9 @@ pub struct RectangleTarget {
     pub size: [f64; 2],
     /// Heightfield cells `[cols, rows]`.
     pub resolution: [u32; 2],
-    /// Radius over which each stuck particle's volume is spread, m (0: one cell).
-    pub splat_radius: f64,
+    /// Radius over which each stuck particle's volume is spread, m (0: one cell), as the file
+    /// gives it or derived from the particles expected per cell.
+    pub splat_radius: SplatRadius,
     /// `"free"`: a slumping layer runs off over the edges; `"held"`: formwork (or a floor
     /// under a wall) holds it.
     pub edges: Edges,
@@ -55,7 +56,7 @@ impl TargetGeometry for RectangleTarget {
 
     fn surface(&self) -> Surface {
         let [cols, rows] = self.resolution.map(|r| r as usize);
-        let rect = RectangleSurface::new(self.face(), cols, rows, self.splat_radius)
+        let rect = RectangleSurface::new(self.face(), cols, rows, self.splat_radius.radius)
             .with_held_edges(self.edges == Edges::Held)
             .with_openings(self.openings.iter().map(opening).collect());
         Surface::Rectangle(rect)
