@@ -129,3 +129,21 @@ fn check_counts_only_what_the_spraying_legs_emit_and_says_1_target() {
     assert!(out.contains("valid (1 target, 0 obstacles)"), "{out}");
     assert!(out.contains("1.0000e4 particles sprayed"), "{out}");
 }
+
+#[test]
+fn a_run_too_short_for_its_particles_to_land_writes_its_outputs_then_fails_with_strict() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    // 0.3 s: most of what was emitted is still on its way (at a spawn rate that keeps the map
+    // well sampled, so that nothing is amiss before the run).
+    let short = ["--set", "simulation.duration=0.3", "--set", "emitter.spawn_rate=1e5"];
+    let o = spraysim(&[&["run", "--strict"][..], &short[..]].concat(), tmp.path());
+    assert!(!o.status.success(), "--strict must fail after the run");
+    let err = stderr(&o);
+    assert!(err.contains("still_in_flight (change `simulation.duration`)"), "{err}");
+    let out = stdout(&o);
+    assert!(out.contains("still in flight at the end of the run"), "the summary tells it:\n{out}");
+    assert_eq!(
+        warnings_in(&tmp.path().join("out")),
+        [("still_in_flight".into(), "simulation.duration".into())]
+    );
+}

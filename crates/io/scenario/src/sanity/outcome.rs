@@ -15,21 +15,31 @@ pub const MOST: f64 = 0.5;
 /// The warnings `m`, the metrics of a run of `sc`, call for; `reachable` is false when the
 /// check before the run found no target in reach (the off-target share then says nothing new).
 pub(super) fn check(sc: &Scenario, m: &Metrics, reachable: bool) -> Vec<Warning> {
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<Warning> = still_in_flight(sc, m).into_iter().collect();
+    warnings.extend(window(sc, m, reachable));
+    warnings
+}
+
+/// `still_in_flight`: more than [`MOST`] of the emitted particles are in flight at the end.
+fn still_in_flight(sc: &Scenario, m: &Metrics) -> Option<Warning> {
     let (emitted, in_flight) = (m.emitted.count, m.fates.in_flight.count);
-    if emitted > 0 && in_flight as f64 > MOST * emitted as f64 {
-        let duration = sc.simulation().duration;
-        warnings.push(Warning {
-            code: WarningCode::StillInFlight,
-            message: format!(
-                "{:.1} % of the emitted particles are still in flight at the end of the run: \
-                 simulation.duration ({duration} s) ends before they land; lengthen it (or check that the \
-                 spray reaches a target)",
-                100.0 * in_flight as f64 / emitted as f64
-            ),
-            key: "simulation.duration".into(),
-        });
-    }
+    (emitted > 0 && in_flight as f64 > MOST * emitted as f64).then(|| Warning {
+        code: WarningCode::StillInFlight,
+        message: format!(
+            "{:.1} % of the emitted particles are still in flight at the end of the run: \
+             simulation.duration ({} s) ends before they land; lengthen it (or check that the \
+             spray reaches a target)",
+            100.0 * in_flight as f64 / emitted as f64,
+            sc.simulation().duration
+        ),
+        key: "simulation.duration".into(),
+    })
+}
+
+/// `off_target` and the window's warnings: the nozzle mostly off the targets, or outside
+/// `[process.window]`, over the spraying time.
+fn window(sc: &Scenario, m: &Metrics, reachable: bool) -> Vec<Warning> {
+    let mut warnings = Vec::new();
     let p = &m.path;
     if p.spraying_time <= 0.0 {
         return warnings;

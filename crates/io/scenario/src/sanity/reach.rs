@@ -125,7 +125,7 @@ impl Reach {
 }
 
 /// Whether the cone from `position` along `axis` can reach the box around `target` in `sc`,
-/// for a nozzle at rest: [`check`]'s rule for one pose.
+/// for a nozzle at rest: the module's rule for one pose.
 pub fn reaches(sc: &Scenario, position: DVec3, axis: DVec3, target: usize) -> bool {
     let Some(t) = sc.targets().get(target) else { return false };
     let e = emitter(sc.emitter(), sc.process().flow_rate);
