@@ -118,9 +118,16 @@ struct FileEntry<'a> {
 
 /// The metrics of `sim` as `metrics.json` holds them, without the manifest: the engine's
 /// [`spraysim_engine::Metrics`] and whether the run reached its duration (`completed`; `time`
-/// says how far it got).
+/// says how far it got). Without the scenario, it has no `warnings` (see
+/// [`spraysim_scenario::sanity::after_run`]).
 pub fn metrics_json(sim: &Simulation) -> Result<String, OutputError> {
     metrics_file(sim, None, None)
+}
+
+/// [`metrics_json`] of `sim`, a run of `sc`, with the sanity `warnings` about it: what a
+/// written set's `metrics.json` holds, less its manifest.
+pub fn run_metrics_json(sim: &Simulation, sc: &Scenario) -> Result<String, OutputError> {
+    metrics_file(sim, Some(sc), None)
 }
 
 /// `metrics.json` of `sim`, with the warnings about it as a run of `sc` when given, and the
