@@ -124,6 +124,10 @@ pub struct ThicknessStats {
     pub coverage_threshold: f64,
     /// Share of the area at or above the coverage threshold (and above 0), 0..1.
     pub covered_fraction: f64,
+    /// Mean over the cells that hold material (thickness above 0), m: the layer where the
+    /// spray reached, unlike `mean`, which spreads it over the whole region (0 when no cell
+    /// holds any).
+    pub deposited_mean: f64,
     /// Area the statistics cover, m².
     pub area: f64,
     /// Cells closer than this to an edge or opening are left out, m.
@@ -155,11 +159,13 @@ impl ThicknessStats {
         let covered = |x: f64| x > 0.0 && x >= threshold;
         let within = |x: f64| tolerance.is_some_and(|[lo, hi]| (lo..=hi).contains(&x));
         let (mut area, mut weighted, mut on, mut inside, mut n) = (0.0, 0.0, 0.0, 0.0, 0_usize);
+        let mut deposited = 0.0;
         let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
         for (x, a) in cells() {
             (area, weighted, n) = (area + a, weighted + x * a, n + 1);
             (min, max) = (min.min(x), max.max(x));
             on += if covered(x) { a } else { 0.0 };
+            deposited += if x > 0.0 { a } else { 0.0 };
             inside += if within(x) { a } else { 0.0 };
         }
         let share = |part: f64| if area > 0.0 { part / area } else { 0.0 };
@@ -175,6 +181,7 @@ impl ThicknessStats {
             max: if empty { 0.0 } else { max },
             coverage_threshold: threshold,
             covered_fraction: share(on),
+            deposited_mean: if deposited > 0.0 { weighted / deposited } else { 0.0 },
             area,
             margin,
             tolerance,

@@ -70,6 +70,10 @@ pub struct RunArgs {
     /// or seconds) into the output directory, to continue with `spraysim resume DIR`.
     #[arg(long, value_name = "TIME", value_parser = parse_seconds)]
     pub checkpoint_every: Option<f64>,
+    /// Treat the sanity warnings as errors: refuse to start when the scenario shows one, and
+    /// exit with an error after writing the outputs when the run shows one.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// `spraysim resume`'s arguments.
@@ -96,6 +100,9 @@ pub struct CheckArgs {
     /// Print the fully resolved scenario.
     #[arg(long)]
     pub resolved: bool,
+    /// Treat the sanity warnings as errors: exit with an error when there is one.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// `spraysim calibrate`'s arguments.

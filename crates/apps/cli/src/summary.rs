@@ -1,13 +1,16 @@
-//! The summary a run prints when it ends: where the emitted material went, and each target's
-//! layer or wear, as fixed-width tables.
+//! The summary a run prints when it ends: where the emitted material went, how the nozzle kept
+//! to its working window, each target's layer or wear, as fixed-width tables, and the sanity
+//! warnings about the run.
 
 use anyhow::Result;
-use spraysim::Metrics;
+use spraysim::scenario::NozzleMotion;
+use spraysim::scenario::sanity::Warning;
+use spraysim::{Metrics, Scenario};
 
-/// Prints the summary of a run that simulated `m.time` in `wall` seconds: the fate of what was
-/// emitted, the rebound and transfer efficiency, cohesive failures, each target's layer and
-/// each eroded target's wear.
-pub fn print(m: &Metrics, wall: f64) -> Result<()> {
+/// Prints the summary of a run of `sc` that simulated `m.time` in `wall` seconds: the fate of
+/// what was emitted, the rebound and transfer efficiency, cohesive failures, the nozzle's
+/// window, each target's layer and each eroded target's wear, then the `warnings`.
+pub fn print(m: &Metrics, sc: &Scenario, warnings: &[Warning], wall: f64) -> Result<()> {
     let pct = |a: f64, b: f64| if b > 0.0 { 100.0 * a / b } else { 0.0 };
     let e = m.emitted;
     say!("simulated {:.3} s in {:.2} s ({:.2}× real time)", m.time, wall, m.time / wall.max(1e-9));
@@ -37,43 +40,82 @@ pub fn print(m: &Metrics, wall: f64) -> Result<()> {
         m.failures.events.len(),
         m.failures.ran_off.volume
     );
+    print_window(m, sc)?;
     print_layers(m)?;
-    print_erosion(m)
+    print_erosion(m)?;
+    for w in warnings {
+        say!("warning: {w}");
+    }
+    Ok(())
+}
+
+/// How the nozzle kept to the process's working window (`[process.window]`): the mean of each
+/// quantity over the spraying time and the share of that time outside the window.
+fn print_window(m: &Metrics, sc: &Scenario) -> Result<()> {
+    let (p, w) = (&m.path, &sc.process().window);
+    if p.spraying_time <= 0.0 {
+        return Ok(());
+    }
+    let pct = |share: f64| format!("{:.1}%", 100.0 * share);
+    say!("{:<24}{:>16}{:>16}{:>10}", "nozzle", "mean", "window", "outside");
+    let travels = matches!(sc.nozzle().motion, NozzleMotion::Waypoints { .. } | NozzleMotion::Raster { .. });
+    let rows = [
+        ("standoff", p.standoff, (3, " m"), format!("{}–{} m", w.standoff[0], w.standoff[1])),
+        ("angle off square", p.angle, (1, "°"), format!("≤ {}°", w.max_angle)),
+        ("travel speed", p.travel_speed, (3, " m/s"), format!("{}–{} m/s", w.speed[0], w.speed[1])),
+    ];
+    for (name, range, (decimals, unit), window) in rows {
+        let value = |x: f64| format!("{x:.decimals$}{unit}");
+        let (mean, outside) = match range {
+            // A static or circling nozzle does not travel: its speed is not judged.
+            Some(_) if name == "travel speed" && !travels => ("does not travel".to_string(), "—".to_string()),
+            Some(r) => (value(r.mean), pct(r.outside_share)),
+            None => ("n/a".to_string(), "n/a".to_string()),
+        };
+        say!("{name:<24}{mean:>16}{window:>16}{outside:>10}");
+    }
+    say!("{:<24}{:>16}{:>16}{:>10}", "off target (axis misses)", "", "", pct(p.off_target_share));
+    Ok(())
 }
 
 /// The layer on every target that holds one: hits, thickness and coverage, and the share
-/// within the tolerance band where a target gives one.
+/// within the tolerance band where a target gives one. Thicknesses are in µm when every layer
+/// is thinner than 1 mm (paint films), else in mm.
 fn print_layers(m: &Metrics) -> Result<()> {
     let layered: Vec<_> = m.targets.iter().filter(|t| t.layer_volume > 0.0).collect();
+    if layered.is_empty() {
+        return Ok(());
+    }
     // The share within the tolerance band, where a target gives one.
     let spec = layered.iter().any(|t| t.thickness.in_tolerance.is_some());
-    if !layered.is_empty() {
-        say!(
-            "{:<12}{:>10}{:>12}{:>12}{:>8}{:>11}{}",
-            "target",
-            "hits",
-            "mean [mm]",
-            "max [mm]",
-            "CV",
-            "covered",
-            if spec { format!("{:>11}", "in spec") } else { String::new() }
-        );
-    }
+    let thickest = layered.iter().map(|t| t.thickness.max).fold(0.0, f64::max);
+    let (unit, scale) = if thickest < 1e-3 { ("µm", 1e6) } else { ("mm", 1e3) };
+    say!(
+        "{:<12}{:>10}{:>22}{:>12}{:>9}{:>10}{}",
+        "target",
+        "hits",
+        format!("mean covered [{unit}]"),
+        format!("max [{unit}]"),
+        "CV [%]",
+        "covered",
+        if spec { format!("{:>11}", "in spec") } else { String::new() }
+    );
     for t in layered {
         let th = &t.thickness;
         let in_spec =
             th.in_tolerance.map_or_else(|| format!("{:>11}", "—"), |f| format!("{:>10.1}%", 100.0 * f));
         say!(
-            "{:<12}{:>10}{:>12.3}{:>12.3}{:>8.2}{:>10.1}%{}",
+            "{:<12}{:>10}{:>22.3}{:>12.3}{:>9.1}{:>9.1}%{}",
             t.name,
             t.hits,
-            th.mean * 1e3,
-            th.max * 1e3,
-            th.cv,
+            th.deposited_mean * scale,
+            th.max * scale,
+            100.0 * th.cv,
             100.0 * th.covered_fraction,
             if spec { in_spec } else { String::new() }
         );
     }
+    say!("(mean covered: over the cells that hold material; CV and covered: over the whole target)");
     Ok(())
 }
 

@@ -258,7 +258,8 @@ impl PySimulation {
     /// The text `metrics.json` would hold now, without the `files` manifest that only a
     /// written set of outputs has.
     fn metrics_json(&self, py: Python<'_>) -> PyResult<String> {
-        self.read(py, spraysim::output::metrics_json)?.map_err(|e| output_error(&e))
+        let scenario = self.setup(py).scenario.clone();
+        self.read(py, |sim| spraysim::output::run_metrics_json(sim, &scenario))?.map_err(|e| output_error(&e))
     }
 
     /// Writes every output (`metrics.json`, `.npy` arrays, heatmaps, `scenario.resolved.toml`)

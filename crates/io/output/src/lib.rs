@@ -95,12 +95,15 @@ pub fn write_outputs_with(
     Ok(written)
 }
 
-/// What `metrics.json` holds: the engine's metrics, whether the run reached its duration
-/// (`time` says how far it got), and the manifest of the run's other files.
+/// What `metrics.json` holds: the engine's metrics, the sanity warnings about the run (see
+/// [`spraysim_scenario::sanity`]), whether the run reached its duration (`time` says how far it
+/// got), and the manifest of the run's other files.
 #[derive(serde::Serialize)]
 struct MetricsFile<'a> {
     #[serde(flatten)]
     metrics: &'a spraysim_engine::Metrics,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    warnings: Option<Vec<spraysim_scenario::sanity::Warning>>,
     completed: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     files: Option<Vec<FileEntry<'a>>>,
@@ -116,14 +119,28 @@ struct FileEntry<'a> {
 
 /// The metrics of `sim` as `metrics.json` holds them, without the manifest: the engine's
 /// [`spraysim_engine::Metrics`] and whether the run reached its duration (`completed`; `time`
-/// says how far it got).
+/// says how far it got). Without the scenario, it has no `warnings` (see
+/// [`spraysim_scenario::sanity::after_run`]).
 pub fn metrics_json(sim: &Simulation) -> Result<String, OutputError> {
-    metrics_file(sim, None)
+    metrics_file(sim, None, None)
 }
 
-fn metrics_file(sim: &Simulation, files: Option<&[(String, Vec<u8>)]>) -> Result<String, OutputError> {
+/// [`metrics_json`] of `sim`, a run of `sc`, with the sanity `warnings` about it: what a
+/// written set's `metrics.json` holds, less its manifest.
+pub fn run_metrics_json(sim: &Simulation, sc: &Scenario) -> Result<String, OutputError> {
+    metrics_file(sim, Some(sc), None)
+}
+
+/// `metrics.json` of `sim`, with the warnings about it as a run of `sc` when given, and the
+/// manifest of `files` when given.
+fn metrics_file(
+    sim: &Simulation,
+    sc: Option<&Scenario>,
+    files: Option<&[(String, Vec<u8>)]>,
+) -> Result<String, OutputError> {
     use sha2::{Digest, Sha256};
     let metrics = sim.metrics();
+    let warnings = sc.map(|sc| spraysim_scenario::sanity::after_run(sc, &metrics));
     let files = files.map(|files| {
         let mut entries = Vec::with_capacity(files.len());
         for (name, bytes) in files {
@@ -132,7 +149,7 @@ fn metrics_file(sim: &Simulation, files: Option<&[(String, Vec<u8>)]>) -> Result
         }
         entries
     });
-    let file = MetricsFile { metrics: &metrics, completed: sim.is_finished(), files };
+    let file = MetricsFile { metrics: &metrics, warnings, completed: sim.is_finished(), files };
     serde_json::to_string_pretty(&file)
         .map_err(|e| OutputError::Io { path: "metrics.json".into(), source: e.into() })
 }
@@ -164,7 +181,7 @@ fn outputs_with(
     }
     files.extend(extra);
     // The index of the set comes first: it is moved into place last.
-    let metrics = metrics_file(sim, Some(&files))?.into_bytes();
+    let metrics = metrics_file(sim, Some(sc), Some(&files))?.into_bytes();
     files.insert(0, ("metrics.json".to_string(), metrics));
     Ok(files)
 }

@@ -199,7 +199,8 @@ fn erosion_laws(e: &ErosionParams) -> Option<Laws> {
     }
 }
 
-fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
+/// The engine's emitter of `e`, at the process's `flow_rate` (m³/s).
+pub(crate) fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
     let aperture = match e.aperture {
         Aperture::Point => emission::Aperture::Point,
         Aperture::Circle { diameter } => emission::Aperture::Circle { r: diameter / 2.0 },

@@ -34,6 +34,7 @@ mod overrides;
 mod params;
 mod presets;
 mod reader;
+pub mod sanity;
 mod scenario;
 pub mod scenes;
 mod splat;

@@ -1,9 +1,10 @@
 //! `spraysim check`: validates a scenario without running it, and prints its size or the
 //! scenario resolved.
 
-use super::{load, warn_size, write_out};
+use super::{load, strict_refusal, warn_size, write_out};
 use crate::cli::CheckArgs;
 use anyhow::Result;
+use spraysim::scenario::sanity;
 
 /// Validates a scenario and prints its size, or the scenario resolved.
 pub fn check(args: &CheckArgs) -> Result<()> {
@@ -25,14 +26,15 @@ pub fn check(args: &CheckArgs) -> Result<()> {
         return write_out(&format!("{ends}{}", sc.to_toml()));
     }
     let b = sc.budget();
+    let counted = |n: usize, what: &str| if n == 1 { format!("1 {what}") } else { format!("{n} {what}s") };
     say!(
-        "{}: valid ({} targets, {} obstacles): {} steps, {:.4e} particles ({:.3e} in flight at most), \
+        "{}: valid ({}, {}): {} steps, {:.4e} particles sprayed ({:.3e} in flight at most), \
          about {} of memory (limit {})",
         name,
-        sc.targets().len(),
-        sc.obstacles().len(),
+        counted(sc.targets().len(), "target"),
+        counted(sc.obstacles().len(), "obstacle"),
         b.steps,
-        b.particles,
+        sanity::sprayed_particles(&sc),
         b.in_flight,
         spraysim::scenario::bytes_text(b.memory),
         spraysim::scenario::bytes_text(b.limit)
@@ -41,7 +43,14 @@ pub fn check(args: &CheckArgs) -> Result<()> {
         say!("{line}");
     }
     warn_size(&sc);
-    Ok(())
+    let warnings = sanity::before_run(&sc);
+    for w in &warnings {
+        say!("warning: {w}");
+    }
+    match strict_refusal(&warnings).filter(|_| args.strict) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }
 
 /// A line for each target whose splat radius the scenario derived (no `splat_radius` key): the

@@ -11,6 +11,7 @@ pub mod validate;
 use anyhow::{Context, Result};
 use spraysim::Scenario;
 use spraysim::output::OutputDir;
+use spraysim::scenario::sanity::Warning;
 use std::io::Write;
 use std::path::Path;
 
@@ -43,6 +44,24 @@ pub fn load(path: Option<&Path>, set: &[String]) -> Result<Scenario> {
 /// written or that another writer holds.
 pub fn lock(dir: &Path) -> Result<OutputDir> {
     OutputDir::lock(dir).with_context(|| format!("output directory {}", dir.display()))
+}
+
+/// The error `--strict` makes of `warnings` (`None` when there are none).
+pub fn strict_refusal(warnings: &[Warning]) -> Option<anyhow::Error> {
+    if warnings.is_empty() {
+        return None;
+    }
+    let listed: Vec<String> = warnings.iter().map(|w| format!("{} (change `{}`)", w.code, w.key)).collect();
+    let count =
+        if warnings.len() == 1 { "1 warning".to_string() } else { format!("{} warnings", warnings.len()) };
+    Some(anyhow::anyhow!("--strict: {count}: {}", listed.join(", ")))
+}
+
+/// Prints `warnings` to stderr, one a line.
+pub fn print_warnings(warnings: &[Warning]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// Steps beyond which a run is worth a word before it starts.

@@ -2,7 +2,7 @@
 //! progress shown, checkpoints written on the way, and its outputs, 3D views included, written
 //! into the output directory as one set.
 
-use super::{load, lock, warn_size};
+use super::{load, lock, print_warnings, strict_refusal, warn_size};
 use crate::cli::{ResumeArgs, RunArgs};
 use crate::control::{self, INTERRUPTED, RunControl};
 use crate::recorder::{self, Recorder};
@@ -10,6 +10,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use spraysim::output::OutputDir;
 use spraysim::output::checkpoint;
+use spraysim::scenario::sanity;
 use spraysim::{Scenario, Simulation};
 use std::io::Write;
 use std::path::Path;
@@ -34,6 +35,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
         None => scenario,
     };
     warn_size(scenario);
+    if args.strict {
+        let warnings = sanity::before_run(scenario);
+        if let Some(refusal) = strict_refusal(&warnings) {
+            print_warnings(&warnings);
+            return Err(refusal.context("not starting the run"));
+        }
+    }
     // Refused or set up before anything is written: a build without 3D views, or no graphics
     // adapter, a thread count beyond the machine's.
     let recorder = recorder::recorder(scenario)?;
@@ -44,7 +52,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     // A new run replaces the directory's run: an earlier run's checkpoint no longer applies.
     checkpoint::remove_checkpoint(&dir);
     dir.record_run(&scenario.to_toml())?;
-    execute(scenario, sim, &dir, (every, recorder), args.quiet)
+    execute(scenario, sim, &dir, (every, recorder), args.quiet, args.strict)
 }
 
 /// Continues the run whose checkpoint is in `args.dir`.
@@ -71,17 +79,20 @@ pub fn resume(args: &ResumeArgs) -> Result<()> {
     if !quiet {
         say!("resuming at t = {:.3} s of {} s", sim.time(), scenario.simulation().duration);
     }
-    execute(&scenario, sim, &dir, ((ck.every_steps > 0).then_some(ck.every_steps), recorder), quiet)
+    execute(&scenario, sim, &dir, ((ck.every_steps > 0).then_some(ck.every_steps), recorder), quiet, false)
 }
 
 /// Steps `sim` to its end or to an interrupt, with checkpoints every `every` steps and the 3D
-/// views `recorder` draws, and writes its outputs, views included, into `dir` as one set.
+/// views `recorder` draws, and writes its outputs, views included, into `dir` as one set; its
+/// sanity warnings go into the summary (to stderr when `quiet`), and with `strict` make an
+/// error once the outputs are written.
 fn execute(
     scenario: &Scenario,
     mut sim: Simulation,
     dir: &OutputDir,
     (every, mut recorder): (Option<u64>, Recorder),
     quiet: bool,
+    strict: bool,
 ) -> Result<()> {
     control::watch_interrupts()?;
     let save = |sim: &Simulation, k: u64| {
@@ -135,8 +146,12 @@ fn execute(
     if completed {
         checkpoint::remove_checkpoint(dir);
     }
-    if !quiet {
-        crate::summary::print(&sim.metrics(), wall)?;
+    let metrics = sim.metrics();
+    let warnings = sanity::after_run(scenario, &metrics);
+    if quiet {
+        print_warnings(&warnings);
+    } else {
+        crate::summary::print(&metrics, scenario, &warnings, wall)?;
         say!("wrote {} files to {}", files.len(), dir.path().display());
     }
     if !completed {
@@ -149,7 +164,10 @@ fn execute(
         std::io::stdout().flush()?;
         std::process::exit(INTERRUPTED);
     }
-    Ok(())
+    match strict_refusal(&warnings).filter(|_| strict) {
+        Some(refusal) => Err(refusal.context(format!("the outputs are in {}", dir.path().display()))),
+        None => Ok(()),
+    }
 }
 
 /// The run's progress bar (hidden when `quiet`), at `sim`'s step.

@@ -5,6 +5,7 @@ use super::{Edges, RasterChart, SplatRadius, TargetGeometry, heightfield_storage
 use crate::budget::Storage;
 use crate::params::v3;
 use crate::reader::{Check, Read, Section, bad, choices, not_parallel};
+use crate::sanity::EnclosingBox;
 use glam::DVec3;
 use serde::Serialize;
 use spraysim_engine::collision::CylinderShell;
@@ -105,6 +106,21 @@ impl TargetGeometry for CylinderTarget {
 
     fn reach(&self) -> (Vec<[f64; 3]>, f64) {
         (vec![self.center], self.radius.hypot(self.length / 2.0))
+    }
+
+    /// The box around the whole cylinder, whatever its angles.
+    fn enclosing_box(&self) -> EnclosingBox {
+        let axis = v3(self.axis).normalize();
+        let (across, third) = axis.any_orthonormal_pair();
+        EnclosingBox {
+            center: v3(self.center),
+            axes: [axis, across, third],
+            half: [self.length / 2.0, self.radius, self.radius],
+        }
+    }
+
+    fn splat_radius(&self) -> f64 {
+        self.splat_radius.radius
     }
 
     fn cells(&self) -> u64 {

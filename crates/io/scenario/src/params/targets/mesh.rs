@@ -6,6 +6,7 @@ use crate::budget::{PER_TRIANGLE, Storage};
 use crate::params::DirectionLaw;
 use crate::params::mesh::{MeshParams, read_mesh};
 use crate::reader::{Read, Section, choices};
+use crate::sanity::EnclosingBox;
 use crate::scenario::Scenario;
 use glam::DVec3;
 use serde::Serialize;
@@ -77,6 +78,19 @@ impl TargetGeometry for MeshTarget {
     /// Every vertex, exactly.
     fn reach(&self) -> (Vec<[f64; 3]>, f64) {
         (self.mesh.triangles.iter().flat_map(|t| t.corners.map(|c| c.to_array())).collect(), 0.0)
+    }
+
+    /// The axis-aligned box of its vertices.
+    fn enclosing_box(&self) -> EnclosingBox {
+        let corners = self.mesh.triangles.iter().flat_map(|t| t.corners);
+        let (min, max) =
+            corners.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        EnclosingBox::aligned(min, max)
+    }
+
+    /// The sum of its triangles' areas.
+    fn area(&self) -> f64 {
+        self.mesh.triangles.iter().map(Triangle::area).sum()
     }
 
     fn cells(&self) -> u64 {

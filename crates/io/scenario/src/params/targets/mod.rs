@@ -22,6 +22,7 @@ use super::registry::kinds;
 use super::surface::{impact_override, name};
 use crate::budget::{PER_CELL, Storage};
 use crate::reader::{Check, Choice, Read, Section, bad, choices};
+use crate::sanity::EnclosingBox;
 use crate::scenario::Scenario;
 use glam::DVec3;
 use serde::Serialize;
@@ -55,6 +56,21 @@ pub(crate) trait TargetGeometry {
 
     /// Cells of its deposit: a heightfield's cells, a mesh's triangles.
     fn cells(&self) -> u64;
+
+    /// An oriented box that holds the whole target, m: what the sanity checks aim the spray
+    /// cone at.
+    fn enclosing_box(&self) -> EnclosingBox;
+
+    /// Area of the surface, m².
+    fn area(&self) -> f64 {
+        let [width, height] = self.size();
+        width * height
+    }
+
+    /// Radius over which each particle's deposit spreads, m (0: the cell it lands in only).
+    fn splat_radius(&self) -> f64 {
+        0.0
+    }
 
     /// The memory its deposit takes in a run, for the budget.
     fn storage(&self) -> Storage;

@@ -5,6 +5,7 @@ use super::{Edges, RasterChart, SplatRadius, TargetGeometry, heightfield_storage
 use crate::budget::Storage;
 use crate::params::v3;
 use crate::reader::{Check, Read, Section, bad, choices, not_parallel};
+use crate::sanity::EnclosingBox;
 use glam::DVec3;
 use serde::Serialize;
 use spraysim_engine::collision::Face;
@@ -68,6 +69,19 @@ impl TargetGeometry for RectangleTarget {
 
     fn reach(&self) -> (Vec<[f64; 3]>, f64) {
         (vec![self.center], self.size[0].hypot(self.size[1]) / 2.0)
+    }
+
+    fn enclosing_box(&self) -> EnclosingBox {
+        let f = self.face();
+        EnclosingBox {
+            center: f.center,
+            axes: [f.right, f.up, f.normal],
+            half: [f.half_width, f.half_height, 0.0],
+        }
+    }
+
+    fn splat_radius(&self) -> f64 {
+        self.splat_radius.radius
     }
 
     fn cells(&self) -> u64 {
