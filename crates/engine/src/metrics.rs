@@ -128,6 +128,9 @@ pub struct ThicknessStats {
     /// spray reached, unlike `mean`, which spreads it over the whole region (0 when no cell
     /// holds any).
     pub deposited_mean: f64,
+    /// Coefficient of variation over the cells that hold material, as `deposited_mean` is
+    /// their mean: how even the layer is where the spray reached (0 when no cell holds any).
+    pub deposited_cv: f64,
     /// Area the statistics cover, m².
     pub area: f64,
     /// Cells closer than this to an edge or opening are left out, m.
@@ -172,6 +175,12 @@ impl ThicknessStats {
         let mean = share(weighted);
         let var = share(cells().map(|(x, a)| (x - mean).powi(2) * a).sum::<f64>());
         let std_dev = var.sqrt();
+        let deposited_mean = if deposited > 0.0 { weighted / deposited } else { 0.0 };
+        let deposited_var = if deposited > 0.0 {
+            cells().filter(|&(x, _)| x > 0.0).map(|(x, a)| (x - deposited_mean).powi(2) * a).sum::<f64>() / deposited
+        } else {
+            0.0
+        };
         let empty = n == 0;
         ThicknessStats {
             mean,
@@ -181,7 +190,8 @@ impl ThicknessStats {
             max: if empty { 0.0 } else { max },
             coverage_threshold: threshold,
             covered_fraction: share(on),
-            deposited_mean: if deposited > 0.0 { weighted / deposited } else { 0.0 },
+            deposited_mean,
+            deposited_cv: if deposited_mean > 0.0 { deposited_var.sqrt() / deposited_mean } else { 0.0 },
             area,
             margin,
             tolerance,

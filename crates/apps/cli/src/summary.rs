@@ -91,12 +91,12 @@ fn print_layers(m: &Metrics) -> Result<()> {
     let thickest = layered.iter().map(|t| t.thickness.max).fold(0.0, f64::max);
     let (unit, scale) = if thickest < 1e-3 { ("µm", 1e6) } else { ("mm", 1e3) };
     say!(
-        "{:<12}{:>10}{:>22}{:>12}{:>9}{:>10}{}",
+        "{:<12}{:>10}{:>22}{:>12}{:>18}{:>10}{}",
         "target",
         "hits",
         format!("mean covered [{unit}]"),
         format!("max [{unit}]"),
-        "CV [%]",
+        "CV covered [%]",
         "covered",
         if spec { format!("{:>11}", "in spec") } else { String::new() }
     );
@@ -105,17 +105,17 @@ fn print_layers(m: &Metrics) -> Result<()> {
         let in_spec =
             th.in_tolerance.map_or_else(|| format!("{:>11}", "—"), |f| format!("{:>10.1}%", 100.0 * f));
         say!(
-            "{:<12}{:>10}{:>22.3}{:>12.3}{:>9.1}{:>9.1}%{}",
+            "{:<12}{:>10}{:>22.3}{:>12.3}{:>18.1}{:>9.1}%{}",
             t.name,
             t.hits,
             th.deposited_mean * scale,
             th.max * scale,
-            100.0 * th.cv,
+            100.0 * th.deposited_cv,
             100.0 * th.covered_fraction,
             if spec { in_spec } else { String::new() }
         );
     }
-    say!("(mean covered: over the cells that hold material; CV and covered: over the whole target)");
+    say!("(mean and CV covered: over the cells that hold material; covered: share of the whole target)");
     Ok(())
 }
 
