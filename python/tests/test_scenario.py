@@ -42,6 +42,21 @@ def test_set_overrides_one_value_and_leaves_the_original_alone():
     assert many == base.assign("simulation.seed=3").assign("emitter.speed=[20,28]")
 
 
+def test_a_whole_table_of_another_kind_replaces_the_nozzle_and_overrides_go_in_any_order():
+    base = Scenario()
+    raster = base.set("nozzle", {"raster": {"target": "wall", "standoff": 1.0, "speed": 0.5}})
+    # The static nozzle's keys are gone with the table it replaced; the raster's are read.
+    assert raster.get("nozzle.raster.target") == "wall"
+    assert raster.spray_end is not None and raster.spray_end > 0.0
+    with pytest.raises(ScenarioError) as refused:
+        base.set("nozzle.raster", {"target": "wall"})
+    assert "nozzle={raster" in str(refused.value)
+    # A circle's radius before or after its frequency: checked together, either order.
+    one = base.set_many({"nozzle.circle_radius": 0.05, "nozzle.circle_frequency": 2.0})
+    other = base.set_many({"nozzle.circle_frequency": 2.0, "nozzle.circle_radius": 0.05})
+    assert one == other and one.get("nozzle.circle_radius") == 0.05
+
+
 @pytest.mark.parametrize(
     "key, value, assignment",
     [

@@ -177,7 +177,8 @@ impl ThicknessStats {
         let std_dev = var.sqrt();
         let deposited_mean = if deposited > 0.0 { weighted / deposited } else { 0.0 };
         let deposited_var = if deposited > 0.0 {
-            cells().filter(|&(x, _)| x > 0.0).map(|(x, a)| (x - deposited_mean).powi(2) * a).sum::<f64>() / deposited
+            cells().filter(|&(x, _)| x > 0.0).map(|(x, a)| (x - deposited_mean).powi(2) * a).sum::<f64>()
+                / deposited
         } else {
             0.0
         };

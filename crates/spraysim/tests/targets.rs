@@ -252,6 +252,28 @@ fn thickness_statistics_weigh_by_area_report_the_share_in_spec_and_leave_out_the
     assert!(inner.std_dev < 1e-12 && (inner.mean - 0.01).abs() < 1e-12);
 }
 
+#[test]
+fn the_covered_mean_and_cv_leave_out_the_bare_cells() {
+    use spraysim::collision::Face;
+    use spraysim::deposit::RectangleSurface;
+    use spraysim::metrics::ThicknessStats;
+    // 1 m square of 1 cm cells: a 0.2 m × 0.2 m spot of 1 mm and 3 mm cells in a checkerboard
+    // (mean 2 mm, standard deviation 1 mm), the rest bare.
+    let face = Face::new(DVec3::ZERO, DVec3::Z, DVec3::Y, [1.0, 1.0]);
+    let mut s = RectangleSurface::new(face, 100, 100, 0.0);
+    for c in 0..10_000u32 {
+        let p = s.point_above(c, 0.0);
+        if p.x.abs() < 0.1 && p.y.abs() < 0.1 {
+            s.add_thickness(c, if (c / 100 + c % 100) % 2 == 0 { 0.001 } else { 0.003 });
+        }
+    }
+    let st = ThicknessStats::of(&s, 1e-4, 0.0, None);
+    assert!((st.deposited_mean - 0.002).abs() < 1e-12, "{st:?}");
+    assert!((st.deposited_cv - 0.5).abs() < 1e-9, "{st:?}");
+    // Over the whole square the mean is 4 % of that, and the CV is dominated by the bare cells.
+    assert!((st.mean - 0.04 * 0.002).abs() < 1e-12 && st.cv > 4.0, "{st:?}");
+}
+
 /// The wall (2 m × 2 m, default cells) with one opening given by `opening` (TOML keys).
 fn wall_with(opening: &str) -> Result<Scenario, String> {
     let text = wall().with(&format!("[[target.opening]]\n{opening}")).to_string();
