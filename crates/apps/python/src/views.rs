@@ -179,10 +179,7 @@ pub fn erosion<'py>(
     let t = &sim.targets()[target_index(sim, target)?];
     let Some(e) = &t.erosion else { return Ok(None) };
     let depth: Vec<f64> = (0..e.coating.len()).map(|c| e.eroded(c)).collect();
-    let depth = with_nan(t, &depth);
-    let view = ArrayViewD::from_shape(shape(t), depth.as_slice())
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-    Ok(Some(view.to_pyarray(py).into_any()))
+    map_copy(py, t, &depth).map(Some)
 }
 
 /// The coating left per cell of a target, m, a copy (NaN in openings), or None when the
@@ -194,10 +191,15 @@ pub fn coating<'py>(
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
     let t = &sim.targets()[target_index(sim, target)?];
     let Some(e) = &t.erosion else { return Ok(None) };
-    let left = with_nan(t, &e.coating);
-    let view = ArrayViewD::from_shape(shape(t), left.as_slice())
+    map_copy(py, t, &e.coating).map(Some)
+}
+
+/// Per-cell `values` of target `t` as a new array in the target's map shape, NaN in openings.
+fn map_copy<'py>(py: Python<'py>, t: &Target, values: &[f64]) -> PyResult<Bound<'py, PyAny>> {
+    let values = with_nan(t, values);
+    let view = ArrayViewD::from_shape(shape(t), values.as_slice())
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-    Ok(Some(view.to_pyarray(py).into_any()))
+    Ok(view.to_pyarray(py).into_any())
 }
 
 fn vec3<'py>(py: Python<'py>, v: glam::DVec3) -> Bound<'py, PyArray1<f64>> {
