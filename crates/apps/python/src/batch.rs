@@ -59,8 +59,8 @@ pub fn run_many<'py>(
     let pool = work::pool(threads)?;
     let at_once = plan(&variants, work::workers(pool.as_deref()), maps)?;
     let mut results: Vec<Option<Bound<'py, PyAny>>> = (0..variants.len()).map(|_| None).collect();
-    let configs = variants.into_iter().map(|v| v.config).collect();
-    let finish = |sim: &Simulation| Outcome::of(sim, maps);
+    let (configs, scenarios): (Vec<_>, Vec<_>) = variants.into_iter().map(|v| (v.config, v.scenario)).unzip();
+    let finish = |index: usize, sim: &Simulation| Outcome::of(sim, &scenarios[index], maps);
     work::run_stream(py, configs, at_once, pool.as_deref(), finish, |index, outcome| {
         let outcome = outcome.map_err(|e| built_error(index, &e))?;
         results[index] = Some(outcome.into_py(py, index, maps)?);
@@ -76,6 +76,8 @@ pub fn run_many<'py>(
 /// One scenario of a batch, checked, with what it costs.
 struct Variant {
     config: SimulationConfig,
+    /// The scenario it was read from, whose sanity warnings its metrics carry.
+    scenario: Scenario,
     /// Bound on the memory of its simulation, bytes.
     memory: f64,
     /// The limit its scenario holds a run to, bytes.
@@ -107,7 +109,7 @@ fn read_all(py: Python<'_>, scenarios: &Bound<'_, PyAny>, maps: bool) -> PyResul
         config.check().map_err(|e| built_error(i, &SetupError::from(e)))?;
         let budget = scenario.budget();
         let result = METRICS_BYTES + if maps { map_bytes(&scenario) } else { 0.0 };
-        variants.push(Variant { config, memory: budget.memory, limit: budget.limit, result });
+        variants.push(Variant { config, scenario, memory: budget.memory, limit: budget.limit, result });
     }
     Ok(variants)
 }
@@ -203,8 +205,10 @@ struct Outcome {
 }
 
 impl Outcome {
-    fn of(sim: &Simulation, maps: bool) -> Outcome {
-        let metrics = spraysim::output::metrics_json(sim).map_err(|e| e.to_string());
+    /// The outcome of `sim`, a run of `scenario`: its metrics with their sanity warnings, as a
+    /// single simulation's `metrics()` gives them, and its maps when `maps`.
+    fn of(sim: &Simulation, scenario: &Scenario, maps: bool) -> Outcome {
+        let metrics = spraysim::output::run_metrics_json(sim, scenario).map_err(|e| e.to_string());
         let maps = if maps {
             sim.targets()
                 .iter()

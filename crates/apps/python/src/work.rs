@@ -82,7 +82,8 @@ pub fn workers(pool: Option<&rayon::ThreadPool>) -> usize {
 
 /// Runs simulations of `configs` to their ends on `pool` (rayon's global pool when None),
 /// detached, with at most `at_once` of them built and alive at a time: each is built when a
-/// worker frees, and once finished, `finish` takes its result (detached) and it is dropped.
+/// worker frees, and once finished, `finish` makes its result from the index of its config and the
+/// simulation (detached), and the simulation is dropped.
 /// Between rounds of about one [`SLICE`], attached, `deliver` receives each result finished
 /// meanwhile with the index of its config (or why its simulation could not be built), and
 /// signals raise. A simulation's result does not depend on `at_once`, the pool or the rounds.
@@ -91,7 +92,7 @@ pub fn run_stream<R: Send>(
     configs: Vec<SimulationConfig>,
     at_once: usize,
     pool: Option<&rayon::ThreadPool>,
-    finish: impl Fn(&Simulation) -> R + Sync,
+    finish: impl Fn(usize, &Simulation) -> R + Sync,
     mut deliver: impl FnMut(usize, Result<R, SetupError>) -> PyResult<()>,
 ) -> PyResult<()> {
     let queue = Mutex::new(configs.into_iter().enumerate());
@@ -124,7 +125,7 @@ fn work_slot<R>(
     slot: &mut Option<(usize, Simulation)>,
     queue: &Queue,
     done: &Mutex<Vec<(usize, Result<R, SetupError>)>>,
-    finish: &(impl Fn(&Simulation) -> R + Sync),
+    finish: &(impl Fn(usize, &Simulation) -> R + Sync),
     deadline: Instant,
 ) {
     let report = |index: usize, result: Result<R, SetupError>| {
@@ -143,7 +144,7 @@ fn work_slot<R>(
         let end = sim.total_steps();
         steps_until(sim, end, deadline);
         if sim.steps_done() >= end {
-            report(*index, Ok(finish(sim)));
+            report(*index, Ok(finish(*index, sim)));
             // The simulation goes now, before the next one is built.
             *slot = None;
         }
