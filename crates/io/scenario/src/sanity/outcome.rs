@@ -59,14 +59,17 @@ fn window(sc: &Scenario, m: &Metrics, reachable: bool) -> Vec<Warning> {
         return warnings;
     }
     let w = &sc.process().window;
-    // The share of the spraying time on target outside the window.
-    let on_target = |share: f64| (share - p.off_target_share).max(0.0);
-    let mut judge = |code, share: f64, what: String, key: String| {
+    // The share of the spraying time on target outside the window: the engine's share counts
+    // the samples off target as outside too, out of all the spraying samples (off target is at
+    // most half of them here).
+    let off = p.off_target_share;
+    let on_target = |share: f64| ((share - off) / (1.0 - off)).clamp(0.0, 1.0);
+    let mut judge = |code, share: f64, of: &str, what: String, key: String| {
         if share > MOST {
             warnings.push(Warning {
                 code,
                 message: format!(
-                    "{what} for {:.1} % of the spraying time (process.window: the preset's recommendation)",
+                    "{what} for {:.1} % of the {of} (process.window: the preset's recommendation)",
                     100.0 * share
                 ),
                 key,
@@ -77,6 +80,7 @@ fn window(sc: &Scenario, m: &Metrics, reachable: bool) -> Vec<Warning> {
         judge(
             WarningCode::StandoffOutsideWindow,
             on_target(r.outside_share),
+            "spraying time on target",
             format!(
                 "the standoff (mean {:.3} m) is outside process.window.standoff [{}, {}] m",
                 r.mean, w.standoff[0], w.standoff[1]
@@ -88,6 +92,7 @@ fn window(sc: &Scenario, m: &Metrics, reachable: bool) -> Vec<Warning> {
         judge(
             WarningCode::AngleOutsideWindow,
             on_target(r.outside_share),
+            "spraying time on target",
             format!(
                 "the spray axis (mean {:.1}° off square) is beyond process.window.max_angle {}°",
                 r.mean, w.max_angle
@@ -101,6 +106,7 @@ fn window(sc: &Scenario, m: &Metrics, reachable: bool) -> Vec<Warning> {
         judge(
             WarningCode::TravelSpeedOutsideWindow,
             r.outside_share,
+            "spraying time",
             format!(
                 "the travel speed (mean {:.3} m/s) is outside process.window.speed [{}, {}] m/s",
                 r.mean, w.speed[0], w.speed[1]
@@ -154,5 +160,27 @@ mod tests {
     fn a_nozzle_mostly_off_target_is_told_so_once() {
         let sc = Scenario::default_scene().with("nozzle.axis", vec![1.0, 3.0, 0.0]).expect("valid");
         assert_eq!(judged(&sc, |_| {}), vec![WarningCode::OffTarget]);
+    }
+
+    #[test]
+    fn the_window_is_judged_over_the_time_on_target() {
+        // Half the spraying time off target, and all the time on target too far away: the
+        // engine counts both as outside the standoff window, 100 % of the spraying time.
+        let sc = Scenario::default_scene();
+        let codes = judged(&sc, |m| {
+            m.path.off_target_share = 0.5;
+            if let Some(r) = &mut m.path.standoff {
+                r.outside_share = 1.0;
+            }
+        });
+        assert_eq!(codes, vec![WarningCode::StandoffOutsideWindow]);
+        // A third off target and a third of the time on target outside: under half of it.
+        let codes = judged(&sc, |m| {
+            m.path.off_target_share = 1.0 / 3.0;
+            if let Some(r) = &mut m.path.standoff {
+                r.outside_share = 1.0 / 3.0 + 2.0 / 9.0;
+            }
+        });
+        assert_eq!(codes, vec![]);
     }
 }

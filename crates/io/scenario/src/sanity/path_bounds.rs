@@ -39,6 +39,10 @@ pub(super) fn check(sc: &Scenario, path: &NozzlePath) -> Vec<Warning> {
         });
     }
     let boxes: Vec<_> = sc.targets().iter().map(|t| t.shape.as_dyn().enclosing_box()).collect();
+    // Without targets there is nothing to be far from.
+    if boxes.is_empty() {
+        return warnings;
+    }
     let nearest =
         |k: usize| boxes.iter().map(|b| b.distance(waypoints[k].position)).fold(f64::INFINITY, f64::min);
     let far = (0..waypoints.len()).find(|&k| nearest(k) > FAR);

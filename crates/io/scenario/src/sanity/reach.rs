@@ -81,7 +81,11 @@ impl Reach {
             emission::Aperture::Annulus { r_out, .. } => r_out,
         };
         let half_angle = match e.direction {
-            emission::Direction::Fan { wide, narrow } => 0.5 * wide.max(narrow),
+            // A fan's directions fill a rectangle in the tangents of its two angles: its corner
+            // rays lie farthest from the axis.
+            emission::Direction::Fan { wide, narrow } => {
+                (0.5 * wide).tan().hypot((0.5 * narrow).tan()).atan()
+            }
             _ => e.cone_half_angle,
         };
         Reach {
@@ -119,7 +123,14 @@ impl Reach {
         let distance = b.farthest(s.position) + s.spread;
         let fall = 0.5 * self.gravity * self.flight_time(distance).powi(2);
         let grown = b.grown(s.spread + self.aperture + fall);
-        let carried = if self.adds_velocity { (s.speed / self.slowest).atan() } else { 0.0 };
+        // Adding the nozzle's velocity turns a particle by at most asin(v_nozzle / v_particle),
+        // any way at all once the nozzle is as fast.
+        let carried = if self.adds_velocity {
+            let ratio = s.speed / self.slowest;
+            if ratio < 1.0 { ratio.asin() } else { std::f64::consts::PI }
+        } else {
+            0.0
+        };
         super::cone_meets_box(s.position, s.axis, self.half_angle + s.turn + carried, &grown)
     }
 }

@@ -11,10 +11,11 @@
 use super::poses::{Stretch, spraying_stretches};
 use super::{Warning, WarningCode};
 use crate::build::{emitter, nozzle_path};
-use crate::params::{RasterChart, TargetShape};
+use crate::params::{RasterChart, TargetShape, smallest_radius};
 use crate::scenario::Scenario;
 use glam::DVec3;
 use spraysim_engine::collision::Primitive;
+use spraysim_engine::deposit::footprint_cells;
 use spraysim_engine::emission;
 use spraysim_engine::world::Role;
 
@@ -95,10 +96,17 @@ fn estimate_over(sc: &Scenario, target: usize, stretches: &[Stretch]) -> Option<
     }
     let area = geometry.area();
     let splat = geometry.splat_radius();
-    let footprint_area = if splat > 0.0 {
-        std::f64::consts::PI * splat * splat
-    } else {
-        area / geometry.cells().max(1) as f64
+    // A splat spreads over the whole cells whose centres lie within its radius, as the deposit
+    // does (the radius a target derives is chosen on that count, so that it never warns of
+    // itself); a surface without a grid over a disc.
+    let footprint_area = match (splat > 0.0, t.shape.resolution()) {
+        (true, Some([cols, rows])) => {
+            let [width, height] = t.size();
+            let cell = (width / f64::from(cols.max(1)), height / f64::from(rows.max(1)));
+            footprint_cells(cell, splat) as f64 * cell.0 * cell.1
+        }
+        (true, None) => std::f64::consts::PI * splat * splat,
+        (false, _) => area / geometry.cells().max(1) as f64,
     };
     Some(Sampling {
         particles: sc.emitter().spawn_rate * time,
@@ -122,7 +130,17 @@ pub(super) fn check(sc: &Scenario, stretches: &[Stretch]) -> Vec<Warning> {
             continue;
         }
         let splat = t.shape.as_dyn().splat_radius();
-        let needed_splat = (MIN_PER_CELL * s.covered_area / (std::f64::consts::PI * s.particles)).sqrt();
+        // The splat radius that reaches the minimum: counted in whole cells as the deposit
+        // spreads it (within the largest a target allows), or as a disc without a grid.
+        let needed_splat = match t.shape.resolution() {
+            Some([cols, rows]) => {
+                let [width, height] = t.size();
+                let cell = (width / f64::from(cols.max(1)), height / f64::from(rows.max(1)));
+                let per_cell = s.particles * cell.0 * cell.1 / s.covered_area;
+                smallest_radius(cell, per_cell, width.min(height) / 2.0).0
+            }
+            None => (MIN_PER_CELL * s.covered_area / (std::f64::consts::PI * s.particles)).sqrt(),
+        };
         let needed_rate = sc.emitter().spawn_rate * MIN_PER_CELL / per;
         let coarser = match &t.shape {
             TargetShape::Rectangle(r) if splat <= 0.0 => Some(r.resolution),
@@ -165,6 +183,25 @@ mod tests {
     }
 
     #[test]
+    fn a_derived_splat_radius_never_warns_of_itself() {
+        // The default wall without its splat radius, at resolutions whose derived radius is 1,
+        // 2 and more cells (where a disc of the radius and the cells it covers differ most).
+        let line = "splat_radius = 0.008          # m: each particle spreads over a 16 mm patch\n";
+        assert!(crate::DEFAULT_SCENE.contains(line));
+        for n in [200, 300, 450, 550, 700, 1024, 1500] {
+            let text = crate::DEFAULT_SCENE.replacen(line, "", 1).replacen(
+                "resolution = [1024, 1024]",
+                &format!("resolution = [{n}, {n}]"),
+                1,
+            );
+            let sc = Scenario::from_toml(&text, "wall.toml").expect("valid");
+            let radius = sc.targets()[0].shape.splat_radius().expect("a heightfield").radius;
+            let sparse = warnings(&sc).into_iter().filter(|w| w.code == WarningCode::SparseSampling);
+            assert_eq!(sparse.count(), 0, "{n}² cells, derived radius {radius} m");
+        }
+    }
+
+    #[test]
     fn the_default_wall_covers_its_spot_with_enough_particles_per_splat() {
         let sc = Scenario::default_scene();
         let s = estimate(&sc, 0).expect("the axis meets the wall");
@@ -172,7 +209,12 @@ mod tests {
         let spot = std::f64::consts::PI * (9f64.to_radians().tan() + 0.025).powi(2);
         assert!((s.covered_area / spot - 1.0).abs() < 1e-9, "{s:?} vs {spot}");
         assert!((s.particles - 2e4).abs() < 1.0, "{s:?}");
-        assert!((s.footprint_area - std::f64::consts::PI * 0.008f64.powi(2)).abs() < 1e-12);
+        // The cells within 8 mm (4.1 cells) of a cell's centre, on 2 m / 1024 cells: 49 of them,
+        // 7 % short of the disc's area.
+        let cell = 2.0 / 1024.0;
+        let cells = spraysim_engine::deposit::footprint_cells((cell, cell), 0.008) as f64;
+        assert!((s.footprint_area - cells * cell * cell).abs() < 1e-12, "{s:?}");
+        assert_eq!(cells, 49.0);
         assert!(s.per_footprint() > MIN_PER_CELL, "{s:?}");
         assert_eq!(warnings(&sc), vec![]);
         // The floor is a collector: not judged.
@@ -191,8 +233,10 @@ mod tests {
         }
         // The suggested splat radius gives the minimum.
         let s = estimate(&sc, 0).expect("met");
-        let r = (MIN_PER_CELL * s.covered_area / (std::f64::consts::PI * s.particles)).sqrt();
-        let fixed = sc.with("target[0].splat_radius", r * 1.01).expect("valid");
+        let cell = 2.0 / 1024.0;
+        let (r, _) = smallest_radius((cell, cell), s.particles * cell * cell / s.covered_area, 1.0);
+        assert!(w[0].message.contains(&format!("splat_radius to about {r:.3} m")), "{}", w[0].message);
+        let fixed = sc.with("target[0].splat_radius", r).expect("valid");
         assert_eq!(warnings(&fixed), vec![]);
     }
 
