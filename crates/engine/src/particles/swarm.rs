@@ -114,6 +114,20 @@ impl Particle {
     pub fn anchor_velocity(&self) -> DVec3 {
         self.velocity.as_dvec3()
     }
+
+    /// Position (m) and velocity (m/s) `since` steps of `dt` (s) after the anchor, in closed
+    /// form under the acceleration `gravity` (m/s²): where an exact-integrator particle is now.
+    /// With `since` 0 (always so for the Euler integrators, which re-anchor every step), the
+    /// anchor itself.
+    #[inline]
+    pub fn now(&self, dt: f64, gravity: DVec3) -> (DVec3, DVec3) {
+        let v = self.anchor_velocity();
+        if self.since == 0 {
+            return (self.anchor, v);
+        }
+        let tau = f64::from(self.since) * dt;
+        (self.anchor + v * tau + 0.5 * gravity * tau * tau, v + gravity * tau)
+    }
 }
 
 /// Material volume of each particle, without an array over all of them: every particle from

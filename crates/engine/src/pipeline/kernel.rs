@@ -232,15 +232,11 @@ impl Kernel<'_> {
     /// Position and velocity of `p` at the start of its next step.
     #[inline]
     fn now(&self, p: &Particle) -> Now {
-        let v = p.anchor_velocity();
-        match self.motion.integrator {
-            Integrator::Exact if p.since > 0 => {
-                let tau = f64::from(p.since) * self.dt;
-                let g = self.motion.gravity;
-                Now { x: p.anchor + v * tau + 0.5 * g * tau * tau, v: v + g * tau }
-            }
-            _ => Now { x: p.anchor, v },
-        }
+        let (x, v) = match self.motion.integrator {
+            Integrator::Exact => p.now(self.dt, self.motion.gravity),
+            Integrator::Euler | Integrator::SemiImplicitEuler => (p.anchor, p.anchor_velocity()),
+        };
+        Now { x, v }
     }
 
     /// A box that holds every point of the flight from `now` over `k` steps.

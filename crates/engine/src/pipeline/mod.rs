@@ -295,13 +295,12 @@ impl Simulation {
     /// Panics if `i` is not a slot of the swarm.
     pub fn particle_now(&self, i: usize) -> (DVec3, DVec3, f64) {
         let p = &self.state.swarm.particles[i];
-        let (x, v) = (p.anchor, p.anchor_velocity());
         let age = self.state.step.saturating_sub(u64::from(p.born)) as f64 * self.config.dt;
-        if self.config.motion.integrator != Integrator::Exact || p.since == 0 {
-            return (x, v, age);
-        }
-        let (tau, g) = (f64::from(p.since) * self.config.dt, self.config.motion.gravity);
-        (x + v * tau + 0.5 * g * tau * tau, v + g * tau, age)
+        let (x, v) = match self.config.motion.integrator {
+            Integrator::Exact => p.now(self.config.dt, self.config.motion.gravity),
+            Integrator::Euler | Integrator::SemiImplicitEuler => (p.anchor, p.anchor_velocity()),
+        };
+        (x, v, age)
     }
 
     /// Position (m), velocity (m/s) and age (s) at the present time of every particle in

@@ -380,8 +380,7 @@ fn check_swarm(s: &State, config: &SimulationConfig) -> Result<(), String> {
         if !p.is_alive() {
             continue;
         }
-        let tau = f64::from(p.since) * config.dt;
-        let now = x + v * tau + 0.5 * config.motion.gravity * tau * tau;
+        let (now, _) = p.now(config.dt, config.motion.gravity);
         if !(config.domain.contains(x) && config.domain.contains(now)) {
             return Err(format!("particle {} is at {now} m, outside the domain", p.id));
         }

@@ -138,13 +138,12 @@ fn metrics_file(
     sc: Option<&Scenario>,
     files: Option<&[(String, Vec<u8>)]>,
 ) -> Result<String, OutputError> {
-    use sha2::{Digest, Sha256};
     let metrics = sim.metrics();
     let warnings = sc.map(|sc| spraysim_scenario::sanity::after_run(sc, &metrics));
     let files = files.map(|files| {
         let mut entries = Vec::with_capacity(files.len());
         for (name, bytes) in files {
-            let sha256 = Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect();
+            let sha256 = directory::hash_bytes(bytes);
             entries.push(FileEntry { name, bytes: bytes.len(), sha256 });
         }
         entries

@@ -25,6 +25,7 @@ pub use commit::{FILE_LIST, OUTPUT_NAMES, STAGING_PREFIX, is_output_name};
 pub use hooks::{CommitHooks, CommitPoint, MovingGuard, NoHooks};
 pub use lock::LOCK_FILE;
 pub use paths::RESERVED_PREFIX;
+pub(crate) use paths::hash_bytes;
 
 use crate::{OutputError, io_err};
 use std::fs::File;
