@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The paper's Figure 4: runs the four Figure-4 scenes (the same raster, four process set-ups),
+# The paper's Figure 4: runs the four Figure-4 scenes (the same raster, four process set-ups, and
+# the painting one again with an HVLP gun),
 # collects each wall's heatmaps and a 3D view with the particles in flight (16 s into the
 # raster), then renders the default scene as an animated GIF. docs/examples.md shows them.
 #
@@ -22,12 +23,13 @@ mkdir -p "$out/images"
 require_render "$out"
 # The camera of the 3D views: in front of the wall, to its left and above, looking at its centre.
 view=(--set 'output.render={at=[16.0], size=[640,400], eye=[-2.6,-1.8,2.1], target=[-0.2,0.0,0.95]}')
-for scene in figure4a_shotcrete_rebar figure4b_shotcrete figure4c_painting figure4d_blasting; do
+# figure4c_painting_hvlp re-runs (c) with an HVLP gun: its droplets in the gun's air, and the dry film.
+for scene in figure4a_shotcrete_rebar figure4b_shotcrete figure4c_painting figure4c_painting_hvlp figure4d_blasting; do
     "$bin" run "examples/$scene.toml" -o "$out/$scene" -q "${view[@]}"
     cp "$out/$scene/view_16.000s.png" "$out/images/${scene}_3d.png"
     cp "$out/$scene/wall_hits.png" "$out/images/${scene}_hits.png"
     # Maps that have something to show: a deposit, or the coat left and the steel worn.
-    for map in thickness coating erosion; do
+    for map in thickness dry_thickness coating erosion; do
         if [ -f "$out/$scene/wall_$map.png" ]; then
             cp "$out/$scene/wall_$map.png" "$out/images/${scene}_$map.png"
         fi

@@ -60,3 +60,40 @@ def test_a_mesh_map_has_one_value_per_triangle() -> None:
     t = sim.thickness("door")
     assert t.shape == (info["cells"],) and t.shape == sim.hits("door").shape
     assert t.max() > 0.0
+
+
+PAINTED = """
+[simulation]
+duration = 0.3
+[process]
+preset = "painting"
+gun = "hvlp"
+volume_solids = 0.4
+[emitter]
+spawn_rate = 5000.0
+[nozzle]
+position = [-0.15, 0.0, 1.0]
+axis = [1.0, 0.0, 0.0]
+[[target]]
+name = "panel"
+center = [0.0, 0.0, 1.0]
+normal = [-1.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+size = [1.0, 1.0]
+resolution = [64, 64]
+"""
+
+
+def test_a_paint_gun_gives_a_dry_film_and_overspray() -> None:
+    sim = spraysim.Simulation(spraysim.Scenario.from_toml(PAINTED), threads=1)
+    sim.run()
+    wet, dry = sim.thickness("panel"), sim.dry_thickness("panel")
+    assert dry is not None and dry.shape == wet.shape
+    np.testing.assert_allclose(dry, 0.4 * wet, rtol=1e-12)
+    m = sim.metrics()
+    fates = m["fates"]
+    assert fates["overspray"]["count"] > 0
+    assert sum(f["count"] for f in fates.values()) == m["emitted"]["count"]
+    assert m["targets"]["panel"]["dry_thickness"]["mean"] > 0.0
+    plain = spraysim.Simulation(spraysim.Scenario.from_toml(PAINTED.replace("volume_solids = 0.4", "")))
+    assert plain.dry_thickness("panel") is None

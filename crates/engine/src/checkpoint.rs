@@ -13,7 +13,7 @@ use glam::DVec3;
 /// Version of the state encoding; a state of another version is refused. Version 5: particles
 /// are 48-byte records flown in layer epochs, volumes are booked in integer quanta, and the
 /// deposits of the epoch under way are kept with the cells they touched.
-pub const STATE_VERSION: u32 = 5;
+pub const STATE_VERSION: u32 = 6;
 
 /// Why a saved state could not be restored.
 #[derive(Debug, thiserror::Error, PartialEq)]

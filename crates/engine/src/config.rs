@@ -64,6 +64,9 @@ pub struct Material {
     pub max_lifetime: f64,
     /// A cell counts as covered when its thickness reaches this, m.
     pub coverage_threshold: f64,
+    /// Share of the material's volume left in the dry film (a paint's volume solids), 0–1;
+    /// `None`: the deposit is reported wet only.
+    pub volume_solids: Option<f64>,
 }
 
 /// A surface that collects deposit.
@@ -217,6 +220,28 @@ impl SimulationConfig {
                 format!("must be a positive volume, got {}", e.particle_volume),
             );
         }
+        if let Some(d) = &e.droplets
+            && let Err(message) = d.check()
+        {
+            return bad("emitter.droplets", message);
+        }
+        if let Some(air) = &self.motion.air {
+            if let Err(message) = air.check() {
+                return bad("motion.air", message);
+            }
+            if e.droplets.is_none() {
+                return bad("motion.air", "needs the emitter's droplet sizes (`emitter.droplets`)".into());
+            }
+            if self.motion.integrator == Integrator::Exact {
+                return bad(
+                    "motion.air",
+                    "has no closed form with the exact integrator: use an Euler one".into(),
+                );
+            }
+            if self.motion.drag != 0.0 {
+                return bad("motion.air", "replaces the quadratic drag: set `motion.drag` to 0".into());
+            }
+        }
         if self.layer_epoch == 0 {
             return bad("layer_epoch", "must be at least one step".into());
         }
@@ -253,8 +278,13 @@ impl SimulationConfig {
             duration,
             seed: 1,
             max_impacts_per_step: 8,
-            motion: Motion { gravity: GRAVITY, drag: 0.0, integrator: Integrator::Euler },
-            material: Material { density: 2300.0, max_lifetime: 5.0, coverage_threshold: 1e-3 },
+            motion: Motion { gravity: GRAVITY, drag: 0.0, integrator: Integrator::Euler, air: None },
+            material: Material {
+                density: 2300.0,
+                max_lifetime: 5.0,
+                coverage_threshold: 1e-3,
+                volume_solids: None,
+            },
             emitter: Emitter {
                 aperture: Aperture::Circle { r: 0.025 },
                 direction: Direction::TruncatedNormal { mu: 0.255, sigma: 0.102 },
@@ -262,6 +292,7 @@ impl SimulationConfig {
                 speed: [20.0, 30.0],
                 spawn_rate: 1e4,
                 particle_volume: 1.5e-3 / 1e4,
+                droplets: None,
             },
             nozzle: NozzlePath::fixed(DVec3::new(-1.0, 0.0, 1.0), DVec3::X, 0.0),
             add_nozzle_velocity: false,

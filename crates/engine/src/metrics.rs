@@ -76,6 +76,8 @@ pub struct VolumeBalance {
     pub left_domain: f64,
     /// Carried by particles retired in flight at the maximum lifetime, m³.
     pub expired: f64,
+    /// Overspray: never struck a surface, carried off or out of the domain, m³.
+    pub overspray: f64,
     /// In flight now (from the nozzle or released), m³.
     pub in_flight: f64,
     /// `emitted` minus the rest, m³: rounding only.
@@ -90,10 +92,13 @@ pub struct Fates {
     pub stuck_on_targets: Amount,
     /// Stuck on an obstacle.
     pub stuck_on_obstacles: Amount,
-    /// Left the domain box.
+    /// Left the domain box after striking something.
     pub left_domain: Amount,
-    /// Retired still in flight at the maximum lifetime.
+    /// Retired still in flight at the maximum lifetime after striking something.
     pub expired: Amount,
+    /// Overspray: never struck a surface, and left flight by leaving the domain, expiring or
+    /// drifting out of the gun's air into the booth's (see `motion.air.booth_speed`).
+    pub overspray: Amount,
     /// Still in flight.
     pub in_flight: Amount,
 }
@@ -101,7 +106,12 @@ pub struct Fates {
 impl Fates {
     /// Sum over all fates; equals the emitted amount.
     pub fn total(&self) -> Amount {
-        self.stuck_on_targets + self.stuck_on_obstacles + self.left_domain + self.expired + self.in_flight
+        self.stuck_on_targets
+            + self.stuck_on_obstacles
+            + self.left_domain
+            + self.expired
+            + self.overspray
+            + self.in_flight
     }
 }
 
@@ -142,13 +152,15 @@ pub struct ThicknessStats {
 }
 
 impl ThicknessStats {
-    /// Statistics of `surface`'s thickness over the cells farther than `margin` (m) from its
-    /// edges, against the coverage `threshold` (m) and the `tolerance` band (m).
+    /// Statistics of `surface`'s thickness times `scale` (1 for the deposit itself, the
+    /// volume solids for a dry film) over the cells farther than `margin` (m) from its edges,
+    /// against the coverage `threshold` (m) and the `tolerance` band (m).
     pub fn of(
         surface: &impl DepositSurface,
         threshold: f64,
         margin: f64,
         tolerance: Option<[f64; 2]>,
+        scale: f64,
     ) -> ThicknessStats {
         let t = surface.thickness();
         // Two passes over the cells, without a copy of them (a large grid's would cost more
@@ -156,7 +168,7 @@ impl ThicknessStats {
         let cells = || {
             (0..t.len() as u32)
                 .filter(move |&c| margin <= 0.0 || surface.edge_distance(c) >= margin)
-                .map(move |c| (t[c as usize], surface.cell_area(c)))
+                .map(move |c| (t[c as usize] * scale, surface.cell_area(c)))
                 .filter(|&(_, a)| a > 0.0)
         };
         let covered = |x: f64| x > 0.0 && x >= threshold;
@@ -230,8 +242,14 @@ pub struct TargetMetrics {
     /// Σ thickness × cell area, m³: `stuck` plus what was received on the front, less what fell
     /// or ran off (up to rounding).
     pub layer_volume: f64,
-    /// Thickness statistics over the cells away from the edges (see [`ThicknessStats::of`]).
+    /// Thickness statistics of the wet deposit over the cells away from the edges (see
+    /// [`ThicknessStats::of`]); its tolerance band is the dry film's where the material has
+    /// volume solids.
     pub thickness: ThicknessStats,
+    /// The same statistics of the dry film (the wet one times the volume solids), with the
+    /// tolerance band, where the material has volume solids; its coverage threshold is the
+    /// wet one's times the volume solids.
+    pub dry_thickness: Option<ThicknessStats>,
     /// Released material that landed here.
     pub received: Amount,
     /// Material that failed and fell off: released particles and volume.
@@ -370,6 +388,7 @@ impl Simulation {
             stuck_on_obstacles: obstacles.iter().map(|o| o.tally.stuck).sum::<Tallied>().amount(q),
             left_domain: tally.left_domain.amount(q),
             expired: tally.expired.amount(q),
+            overspray: tally.overspray.amount(q),
             in_flight: in_flight.amount(q),
         };
         let released_fates = Fates {
@@ -377,6 +396,7 @@ impl Simulation {
             stuck_on_obstacles: obstacles.iter().map(|o| o.tally.received).sum::<Tallied>().amount(q),
             left_domain: tally.released_left.amount(q),
             expired: tally.released_expired.amount(q),
+            overspray: Amount::default(),
             in_flight: released_in_flight.amount(q),
         };
         let on_substrate: f64 =
@@ -458,6 +478,7 @@ impl Simulation {
             substrate_max_depth: e.substrate.iter().copied().fold(0.0, f64::max),
         });
         let sag = c.sag_threshold;
+        let solids = c.material.volume_solids;
         let sag_risk_fraction = (sag > 0.0).then(|| {
             let risk = t.sag_risk(sag);
             share(&|k| risk[k] > 0)
@@ -479,7 +500,16 @@ impl Simulation {
                 .flatten(),
             stuck_on_back: b.stuck_back.amount(q),
             layer_volume: t.surface.volume(),
-            thickness: ThicknessStats::of(s, c.material.coverage_threshold, tc.margin, tc.tolerance),
+            thickness: ThicknessStats::of(
+                s,
+                c.material.coverage_threshold,
+                tc.margin,
+                if solids.is_some() { None } else { tc.tolerance },
+                1.0,
+            ),
+            dry_thickness: solids.map(|v| {
+                ThicknessStats::of(s, c.material.coverage_threshold * v, tc.margin, tc.tolerance, v)
+            }),
             received: b.received.amount(q),
             detached: b.detached.amount(q),
             at_risk_fraction: at_risk / area,
@@ -520,11 +550,18 @@ impl VolumeBalance {
             on_obstacles: fates.stuck_on_obstacles.volume + released.stuck_on_obstacles.volume,
             left_domain: fates.left_domain.volume + released.left_domain.volume,
             expired: fates.expired.volume + released.expired.volume,
+            overspray: fates.overspray.volume,
             in_flight: fates.in_flight.volume + released.in_flight.volume,
             residual: 0.0,
         };
-        let residual =
-            b.emitted - (b.in_maps + b.on_backs + b.on_obstacles + b.left_domain + b.expired + b.in_flight);
+        let residual = b.emitted
+            - (b.in_maps
+                + b.on_backs
+                + b.on_obstacles
+                + b.left_domain
+                + b.expired
+                + b.overspray
+                + b.in_flight);
         VolumeBalance { residual, ..b }
     }
 }

@@ -84,10 +84,13 @@ impl std::iter::Sum for Tallied {
 pub struct Tally {
     /// Particles emitted.
     pub emitted: Tallied,
-    /// Particles that left the domain box.
+    /// Particles that left the domain box after striking something.
     pub left_domain: Tallied,
-    /// Particles retired past the maximum lifetime.
+    /// Particles retired past the maximum lifetime after striking something.
     pub expired: Tallied,
+    /// Overspray: particles from the nozzle that never struck a surface and left flight, by
+    /// leaving the domain, expiring, or drifting out of the gun's air into the booth's.
+    pub overspray: Tallied,
     /// Particles whose first substrate impact happened.
     pub substrate_first_impacts: Tallied,
     /// Of those, the ones that rebounded from it.
@@ -119,6 +122,7 @@ impl Tally {
         self.emitted += o.emitted;
         self.left_domain += o.left_domain;
         self.expired += o.expired;
+        self.overspray += o.overspray;
         self.substrate_first_impacts += o.substrate_first_impacts;
         self.substrate_first_rebounds += o.substrate_first_rebounds;
         self.released += o.released;

@@ -165,7 +165,8 @@ fn a_restarted_simulation_reproduces_a_new_one() {
 
 /// A checkpoint of an earlier state version is refused: restored, it would continue otherwise
 /// than the run that saved it (version 3 drew from other random streams; version 4 stepped
-/// particles one step at a time against layers that changed every step).
+/// particles one step at a time against layers that changed every step; version 5 counted
+/// overspray as left or expired).
 #[test]
 fn a_checkpoint_of_an_earlier_state_version_is_refused() {
     let sc = busy_scene(3);
@@ -173,7 +174,7 @@ fn a_checkpoint_of_an_earlier_state_version_is_refused() {
     for _ in 0..20 {
         sim.step();
     }
-    for version in [3u32, 4] {
+    for version in [3u32, 4, 5] {
         let mut saved = sim.save_state();
         saved[..4].copy_from_slice(&version.to_le_bytes());
         let mut fresh = sc.build().expect("valid");
@@ -181,7 +182,10 @@ fn a_checkpoint_of_an_earlier_state_version_is_refused() {
         let refused = fresh.restore_state(&saved).expect_err("an earlier state is refused");
         assert_eq!(
             refused.to_string(),
-            format!("the saved state has version {version}, this program reads version 5")
+            format!(
+                "the saved state has version {version}, this program reads version {}",
+                spraysim::checkpoint::STATE_VERSION
+            )
         );
         assert_eq!(fresh.state_debug(), before);
     }

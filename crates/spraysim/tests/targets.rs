@@ -240,14 +240,14 @@ fn thickness_statistics_weigh_by_area_report_the_share_in_spec_and_leave_out_the
         let p = s.point_above(c, 0.0);
         s.add_thickness(c, if p.x.abs() < 0.4 && p.y.abs() < 0.4 { 0.01 } else { 0.002 });
     }
-    let all = ThicknessStats::of(&s, 1e-3, 0.0, Some([0.005, 0.015]));
+    let all = ThicknessStats::of(&s, 1e-3, 0.0, Some([0.005, 0.015]), 1.0);
     assert!(
         (all.area - 1.0).abs() < 1e-9 && (all.in_tolerance.expect("band") - 0.64).abs() < 1e-9,
         "{all:?}"
     );
     assert!((all.mean - (0.64 * 0.01 + 0.36 * 0.002)).abs() < 1e-12);
     // A 0.1 m margin leaves the 0.8 m square only.
-    let inner = ThicknessStats::of(&s, 1e-3, 0.1, Some([0.005, 0.015]));
+    let inner = ThicknessStats::of(&s, 1e-3, 0.1, Some([0.005, 0.015]), 1.0);
     assert!((inner.area - 0.64).abs() < 1e-9 && inner.in_tolerance == Some(1.0), "{inner:?}");
     assert!(inner.std_dev < 1e-12 && (inner.mean - 0.01).abs() < 1e-12);
 }
@@ -267,7 +267,7 @@ fn the_covered_mean_and_cv_leave_out_the_bare_cells() {
             s.add_thickness(c, if (c / 100 + c % 100) % 2 == 0 { 0.001 } else { 0.003 });
         }
     }
-    let st = ThicknessStats::of(&s, 1e-4, 0.0, None);
+    let st = ThicknessStats::of(&s, 1e-4, 0.0, None, 1.0);
     assert!((st.deposited_mean - 0.002).abs() < 1e-12, "{st:?}");
     assert!((st.deposited_cv - 0.5).abs() < 1e-9, "{st:?}");
     // Over the whole square the mean is 4 % of that, and the CV is dominated by the bare cells.

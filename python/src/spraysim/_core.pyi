@@ -353,6 +353,9 @@ class Simulation:
     def coating(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
         """Coating left per cell, m (a copy, NaN in openings; 0 where cleaned to bare
         substrate), or None without erosion."""
+    def dry_thickness(self, target: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
+        """Dry film per cell, m: the wet ``thickness`` times ``process.volume_solids`` (a copy,
+        NaN in openings), or None without volume solids."""
     def target_info(self, target: Union[str, int]) -> _TargetInfo:
         """A target's geometry."""
     def surface_frame(self, target: Union[str, int], u: float, v: float, height: float = 0.0) -> _SurfaceFrame:

@@ -22,6 +22,7 @@ pub fn print(m: &Metrics, sc: &Scenario, warnings: &[Warning], wall: f64) -> Res
         ("stuck on obstacles", f.stuck_on_obstacles),
         ("left the domain", f.left_domain),
         ("expired", f.expired),
+        ("overspray", f.overspray),
         ("in flight", f.in_flight),
     ] {
         say!("{name:<22}{:>12}{:>16.6e}{:>8.2}%", a.count, a.volume, pct(a.volume, e.volume));
@@ -86,8 +87,11 @@ fn print_layers(m: &Metrics) -> Result<()> {
     if layered.is_empty() {
         return Ok(());
     }
-    // The share within the tolerance band, where a target gives one.
-    let spec = layered.iter().any(|t| t.thickness.in_tolerance.is_some());
+    // The share within the tolerance band, where a target gives one (judged on the dry film
+    // where the material has volume solids).
+    let spec = layered.iter().any(|t| {
+        t.thickness.in_tolerance.or(t.dry_thickness.as_ref().and_then(|d| d.in_tolerance)).is_some()
+    });
     let thickest = layered.iter().map(|t| t.thickness.max).fold(0.0, f64::max);
     let (unit, scale) = if thickest < 1e-3 { ("µm", 1e6) } else { ("mm", 1e3) };
     say!(
@@ -101,21 +105,28 @@ fn print_layers(m: &Metrics) -> Result<()> {
         if spec { format!("{:>11}", "in spec") } else { String::new() }
     );
     for t in layered {
-        let th = &t.thickness;
-        let in_spec =
-            th.in_tolerance.map_or_else(|| format!("{:>11}", "—"), |f| format!("{:>10.1}%", 100.0 * f));
-        say!(
-            "{:<12}{:>10}{:>22.3}{:>12.3}{:>18.1}{:>9.1}%{}",
-            t.name,
-            t.hits,
-            th.deposited_mean * scale,
-            th.max * scale,
-            100.0 * th.deposited_cv,
-            100.0 * th.covered_fraction,
-            if spec { in_spec } else { String::new() }
-        );
+        // The wet layer, and the dry film where the material has volume solids.
+        let rows = std::iter::once((t.name.clone(), &t.thickness))
+            .chain(t.dry_thickness.as_ref().map(|d| (format!("{} dry", t.name), d)));
+        for (name, th) in rows {
+            let in_spec =
+                th.in_tolerance.map_or_else(|| format!("{:>11}", "—"), |f| format!("{:>10.1}%", 100.0 * f));
+            say!(
+                "{:<12}{:>10}{:>22.3}{:>12.3}{:>18.1}{:>9.1}%{}",
+                name,
+                t.hits,
+                th.deposited_mean * scale,
+                th.max * scale,
+                100.0 * th.deposited_cv,
+                100.0 * th.covered_fraction,
+                if spec { in_spec } else { String::new() }
+            );
+        }
     }
     say!("(mean and CV covered: over the cells that hold material; covered: share of the whole target)");
+    if m.targets.iter().any(|t| t.dry_thickness.is_some()) {
+        say!("(dry: the wet film times the paint's volume solids; a tolerance band judges the dry film)");
+    }
     Ok(())
 }
 

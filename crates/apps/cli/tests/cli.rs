@@ -108,15 +108,21 @@ fn presets_paste_into_scenarios() {
     assert!(o.status.success());
     let text = String::from_utf8_lossy(&o.stdout).into_owned();
     let chunks: Vec<&str> = text.split("# ---- ").skip(1).collect();
-    assert_eq!(chunks.len(), 3);
-    for chunk in chunks {
+    // The three process presets, then the five paint guns over the painting preset.
+    assert_eq!(chunks.len(), 3 + 5);
+    for (k, chunk) in chunks.into_iter().enumerate() {
         let (header, body) = chunk.split_once('\n').expect("header line");
-        let name = header.trim_end_matches(" ----");
-        let file = format!("{name}.toml");
+        let header = header.trim_end_matches(" ----");
+        let file = format!("preset{k}.toml");
         std::fs::write(tmp.path().join(&file), format!("{}\n{body}", small())).expect("write");
         let check = spraysim(&["check", &file, "--resolved"], tmp.path());
-        assert!(check.status.success(), "{name}: {}", stderr(&check));
-        assert!(String::from_utf8_lossy(&check.stdout).contains(&format!("preset = \"{name}\"")));
+        assert!(check.status.success(), "{header}: {}", stderr(&check));
+        let resolved = String::from_utf8_lossy(&check.stdout).into_owned();
+        let expected = match header.split_once("gun = ") {
+            Some((_, gun)) => format!("gun = {}", gun.split(' ').next().unwrap_or_default()),
+            None => format!("preset = \"{header}\""),
+        };
+        assert!(resolved.contains(&expected), "{header}: no `{expected}` in\n{resolved}");
     }
 }
 

@@ -400,6 +400,17 @@ impl PySimulation {
         views::coating(py, &self.lock(py)?.held.sim, target)
     }
 
+    /// The dry film per cell on a target (name or index), m: the wet `thickness` times the
+    /// paint's `process.volume_solids`, laid out as `thickness` (a copy, NaN in openings), or
+    /// None when the scenario gives no volume solids.
+    fn dry_thickness<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'py, PyAny>,
+    ) -> PyResult<Option<Bound<'py, PyAny>>> {
+        views::dry_thickness(py, &self.lock(py)?.held.sim, target)
+    }
+
     /// A target's geometry (name or index): `name`, `role`, `shape`, `cells`, `solid_cells`
     /// (cells not cut away by openings), `rows`, `cols`, `cell_size` (width, height) m, `size`
     /// (width, height) m, and unit vectors `normal`, `up`, `right` and the `center` (m) as

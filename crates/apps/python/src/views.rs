@@ -194,6 +194,19 @@ pub fn coating<'py>(
     map_copy(py, t, &e.coating).map(Some)
 }
 
+/// The dry film per cell of a target, m: the wet thickness times the material's volume
+/// solids, a copy (NaN in openings), or None without volume solids.
+pub fn dry_thickness<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let t = &sim.targets()[target_index(sim, target)?];
+    let Some(solids) = sim.config().material.volume_solids else { return Ok(None) };
+    let dry: Vec<f64> = t.surface.thickness().iter().map(|x| x * solids).collect();
+    map_copy(py, t, &dry).map(Some)
+}
+
 /// Per-cell `values` of target `t` as a new array in the target's map shape, NaN in openings.
 fn map_copy<'py>(py: Python<'py>, t: &Target, values: &[f64]) -> PyResult<Bound<'py, PyAny>> {
     let values = with_nan(t, values);

@@ -73,6 +73,10 @@ pub struct Emitter {
     pub spawn_rate: f64,
     /// Material volume carried by each particle, m³ (= flow rate / spawn rate).
     pub particle_volume: f64,
+    /// The sizes of the droplets (or grains) the particles stand for, by volume (`None`: not
+    /// modelled). Every particle carries `particle_volume` whatever its diameter (see
+    /// [`super::DropletSizes`]); the diameter sets its drag in the gun's air.
+    pub droplets: Option<super::SizeDistribution>,
 }
 
 impl Emitter {
@@ -311,6 +315,7 @@ mod tests {
                 speed: [20.0, 30.0],
                 spawn_rate: 1.0,
                 particle_volume: 1.0,
+                droplets: None,
             };
             let mut mean_r2 = 0.0;
             for _ in 0..10_000 {
@@ -344,6 +349,7 @@ mod tests {
             speed: [1.0, 1.0],
             spawn_rate: 333.3,
             particle_volume: 1.0,
+            droplets: None,
         };
         let mut carry = 0.0;
         let total: u64 = (0..1000).map(|_| e.spawn_count(1e-3, &mut carry)).sum();

@@ -1,5 +1,9 @@
-//! Motion between impacts: gravity and optional quadratic drag, advanced at a fixed time step.
+//! Motion between impacts: gravity and optional quadratic drag, advanced at a fixed time step;
+//! or, for droplets in a gun's air, the drag that carries them with it ([`air`]).
 
+pub mod air;
+
+pub use air::{AirFlow, DragLaw, Droplet, JetFrame, Wall};
 use glam::DVec3;
 
 /// Standard gravity along −z, m/s².
@@ -30,6 +34,11 @@ pub struct Motion {
     pub drag: f64,
     /// Time-stepping scheme that advances positions and velocities over a step.
     pub integrator: Integrator,
+    /// The gun's air, which droplets from the nozzle feel through drag (`None`: still air).
+    /// Each step of a droplet in it is then the exact solution for the air held over the step
+    /// (see [`air`]), with either Euler integrator; the exact integrator has no closed form
+    /// through moving air and is refused with it.
+    pub air: Option<AirFlow>,
 }
 
 impl Motion {

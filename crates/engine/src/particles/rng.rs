@@ -45,6 +45,14 @@ impl StreamKey {
         }
         Stream::from_seed(seed)
     }
+
+    /// A well-mixed 64-bit word keyed by the run's key and `x`, without opening a stream: for
+    /// a draw that must be found again cheaply and often (a particle's droplet size, see
+    /// [`crate::emission::DropletSizes`]).
+    #[inline]
+    pub fn word(&self, x: u64) -> u64 {
+        SplitMix64::seed_from_u64(self.0[0] ^ x.rotate_left(17) ^ self.0[3]).next_u64()
+    }
 }
 
 #[cfg(test)]

@@ -6,10 +6,12 @@
 //! in the parallel part of a call, each from its own random stream.
 
 use super::State;
+use crate::collision::Hit;
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
 use crate::emission::{NozzleFrame, NozzlePath, Sampler};
 use crate::events::EmissionEvent;
+use crate::motion::JetFrame;
 use crate::particles::{Particle, StreamKey, flags};
 use crate::world::Role;
 use glam::DVec3;
@@ -75,6 +77,38 @@ pub(super) fn schedule(
     (births, events)
 }
 
+/// Where the spray axis of `frame` first strikes a substrate target's surface: the distance
+/// along the axis, m, and the hit.
+fn axis_strike(config: &SimulationConfig, state: &State, frame: &NozzleFrame) -> Option<(f64, Hit)> {
+    let reach = config.domain.max.distance(config.domain.min);
+    let far = frame.position + frame.axis * reach;
+    state
+        .targets
+        .iter()
+        .filter(|t| t.role == Role::Substrate)
+        .filter_map(|t| t.surface.intersect(frame.position, far))
+        .min_by(|a, b| a.t.total_cmp(&b.t))
+        .map(|hit| (hit.t * reach, hit))
+}
+
+/// The gun's jet in each step of `from..to` (see [`crate::motion::air`]): from the nozzle's
+/// pose, striking the first substrate surface along its axis; `None` where the nozzle does not
+/// spray (the air is still). Empty without air.
+pub(super) fn jets(config: &SimulationConfig, state: &State, from: u64, to: u64) -> Vec<Option<JetFrame>> {
+    let Some(air) = &config.motion.air else { return Vec::new() };
+    (from..to)
+        .map(|step| {
+            let time = step as f64 * config.dt;
+            if !state.nozzle.sprays(time, NozzlePath::step_slack(time, config.dt)) {
+                return None;
+            }
+            let (frame, _) = state.nozzle.at(time);
+            let strike = axis_strike(config, state, &frame).map(|(_, hit)| (hit.point, hit.normal));
+            Some(air.frame(frame.position, frame.axis, [frame.width_axis, frame.height_axis], strike))
+        })
+        .collect()
+}
+
 /// Path-quality sample of a spraying step: standoff and angle to the nearest substrate surface
 /// along the spray axis, and travel speed, against the recommended window; the nozzle's total
 /// speed (`velocity`, circle included) beside it.
@@ -86,18 +120,10 @@ fn record_path(
     velocity: DVec3,
 ) {
     let w = &config.window;
-    let reach = config.domain.max.distance(config.domain.min);
-    let far = frame.position + frame.axis * reach;
-    let nearest = state
-        .targets
-        .iter()
-        .filter(|t| t.role == Role::Substrate)
-        .filter_map(|t| t.surface.intersect(frame.position, far))
-        .min_by(|a, b| a.t.total_cmp(&b.t));
+    let nearest = axis_strike(config, state, frame);
     let p = &mut state.path;
     p.samples += 1;
-    if let Some(hit) = nearest {
-        let standoff = hit.t * reach;
+    if let Some((standoff, hit)) = nearest {
         let angle = (-frame.axis.dot(hit.normal)).clamp(-1.0, 1.0).acos().to_degrees();
         p.standoff.add(standoff, (w.standoff[0]..=w.standoff[1]).contains(&standoff));
         p.angle.add(angle, angle <= w.max_angle);

@@ -16,11 +16,15 @@
 //! and for any split of an epoch into calls.
 
 use super::emit::{self, Births};
-use super::kernel::{Books, Capture, Kernel};
+use super::kernel::{Air, Books, Capture, Kernel};
 use super::{Plan, State, Workers};
+use crate::collision::Scene;
 use crate::config::SimulationConfig;
 use crate::events::{EmissionEvent, EventHandler, ImpactEvent};
+use crate::motion::JetFrame;
 use crate::particles::Particle;
+use crate::particles::Volumes;
+use crate::world::Target;
 use rayon::prelude::*;
 
 /// Particles per task of the parallel region: small enough that idle workers can take over the
@@ -53,7 +57,8 @@ pub(super) fn run(
 ) {
     let (from, to) = (state.step, state.step + steps);
     let (births, emissions) = emit::schedule(config, state, from, to);
-    let (books, born, retired) = fly(config, plan, state, how, (from, to), &births);
+    let jets = emit::jets(config, state, from, to);
+    let (books, born, retired) = fly(config, plan, state, how, (from, to), &births, &jets);
     state.retired += retired;
     let mut impacts = book(state, books);
     for p in born.into_iter().flatten() {
@@ -75,27 +80,13 @@ fn fly(
     how: &How<'_>,
     (from, to): (u64, u64),
     births: &[Births],
+    jets: &[Option<JetFrame>],
 ) -> (Books, Vec<Vec<Particle>>, usize) {
     let workers = how.workers;
     let (nt, no) = (state.targets.len(), state.obstacles.len());
     let particles = &mut state.swarm.particles;
-    let kernel = Kernel {
-        config,
-        scene: &state.scene,
-        models: &plan.models,
-        targets: &state.targets,
-        volumes: &state.swarm.volumes,
-        motion: config.motion,
-        domain: config.domain,
-        dt: config.dt,
-        key: plan.key,
-        max_impacts: config.max_impacts_per_step,
-        lifetime_steps: config.material.max_lifetime / config.dt,
-        g_len: config.motion.gravity.length(),
-        density: config.material.density,
-        capture: how.capture,
-        coasting: how.coasting,
-    };
+    let kernel =
+        kernel(config, plan, (&state.scene, &state.targets, &state.swarm.volumes), how, (from, jets));
     let sampler = config.emitter.sampler();
     // The newborns in tasks of at most CHUNK particles, each within one step's batch.
     let tasks: Vec<(usize, u64, u64)> = births
@@ -155,6 +146,40 @@ fn fly(
         books = books.merge(b);
     }
     (books, alive, retired)
+}
+
+/// The flight kernel of a call from step `from`, with the gun's jet in each of its steps.
+fn kernel<'a>(
+    config: &'a SimulationConfig,
+    plan: &'a Plan,
+    (scene, targets, volumes): (&'a Scene, &'a [Target], &'a Volumes),
+    how: &How<'_>,
+    (from, jets): (u64, &'a [Option<JetFrame>]),
+) -> Kernel<'a> {
+    Kernel {
+        config,
+        scene,
+        models: &plan.models,
+        targets,
+        volumes,
+        motion: config.motion,
+        domain: config.domain,
+        dt: config.dt,
+        key: plan.key,
+        max_impacts: config.max_impacts_per_step,
+        lifetime_steps: config.material.max_lifetime / config.dt,
+        g_len: config.motion.gravity.length(),
+        density: config.material.density,
+        capture: how.capture,
+        coasting: how.coasting,
+        air: config.motion.air.zip(plan.sizes.as_ref()).map(|(flow, sizes)| Air {
+            flow,
+            sizes,
+            frames: jets,
+            first: from,
+            max_speed: jets.iter().flatten().map(|j| flow.max_speed(j)).fold(0.0, f64::max),
+        }),
+    }
 }
 
 /// Adds the merged books to the run's totals and to each target and obstacle, and keeps the

@@ -23,8 +23,9 @@
 use crate::collision::{Aabb, Flight, Hit, SURFACE_OFFSET, Scene, SurfaceId, SurfaceKind};
 use crate::config::SimulationConfig;
 use crate::deposit::{Clearance, DepositSurface, LayerContact, share};
+use crate::emission::DropletSizes;
 use crate::events::{ImpactEvent, sampled};
-use crate::motion::{Integrator, Motion};
+use crate::motion::{AirFlow, Droplet, Integrator, JetFrame, Motion};
 use crate::particles::{MATERIAL_EVENT, MAX_IMPACTS, Particle, StreamKey, Volumes, flags};
 use crate::process::{ImpactModel, ImpactSite, Outcome};
 use crate::tally::Tally;
@@ -116,6 +117,20 @@ impl Books {
     }
 }
 
+/// The gun's air over the steps of one call (see [`crate::motion::air`]).
+pub(crate) struct Air<'a> {
+    /// The jet's and the air's parameters.
+    pub flow: AirFlow,
+    /// The emitter's droplet sizes, found again by particle id.
+    pub sizes: &'a DropletSizes,
+    /// The jet in each step from `first` (`None`: the nozzle is not spraying; the air is still).
+    pub frames: &'a [Option<JetFrame>],
+    /// The step of `frames[0]`.
+    pub first: u64,
+    /// A bound of the air's speed anywhere in these steps, m/s.
+    pub max_speed: f64,
+}
+
 /// Read-only inputs of a flight.
 pub(crate) struct Kernel<'a> {
     pub config: &'a SimulationConfig,
@@ -138,6 +153,8 @@ pub(crate) struct Kernel<'a> {
     /// Whether particles coast through the steps their flight clears (see
     /// `Simulation::set_coasting`).
     pub coasting: bool,
+    /// The gun's air, if the droplets feel it.
+    pub air: Option<Air<'a>>,
 }
 
 /// A particle's state at the start of a step, in double precision.
@@ -165,6 +182,8 @@ impl Kernel<'_> {
     /// each impact, which may have sent it into open space); failing that, it coasts the steps
     /// the broad phase clears one at a time, and takes the others in full.
     pub fn fly(&self, p: &mut Particle, from: u64, to: u64, books: &mut Books) {
+        let drop = self.droplet(p);
+        let drop = drop.as_ref();
         let mut s = from;
         let mut long = true;
         while s < to && p.is_alive() {
@@ -172,21 +191,21 @@ impl Kernel<'_> {
             if long {
                 long = false;
                 let k = (to - s).min(young);
-                if k > 0 && self.coasts(p, k) {
-                    self.coast(p, k);
-                    books.steps += k;
-                    s += k;
+                if k > 0 && self.coasts(p, k, drop) {
+                    let done = self.coast(p, k, s, drop, books);
+                    books.steps += done;
+                    s += done;
                     continue;
                 }
             }
-            if young > 0 && self.step_is_clear(p) {
-                self.coast(p, 1);
-                books.steps += 1;
-                s += 1;
+            if young > 0 && self.step_is_clear(p, s, drop) {
+                let done = self.coast(p, 1, s, drop, books);
+                books.steps += done;
+                s += done;
                 continue;
             }
             let impacts = p.impacts();
-            self.full_step(p, s, books);
+            self.full_step(p, s, drop, books);
             books.steps += 1;
             books.updates += 1;
             s += 1;
@@ -214,8 +233,12 @@ impl Kernel<'_> {
     /// True if `p`'s flight over its next `k` steps certainly stays inside the domain and meets
     /// nothing (see [`Kernel::box_clear`]).
     #[inline]
-    fn coasts(&self, p: &Particle, k: u64) -> bool {
-        let b = self.flight_box(self.now(p), k);
+    fn coasts(&self, p: &Particle, k: u64, drop: Option<&Droplet>) -> bool {
+        let air = match (drop, &self.air) {
+            (Some(_), Some(air)) => Some(air.max_speed),
+            _ => None,
+        };
+        let b = self.flight_box(self.now(p), k, air);
         self.domain.contains(b.min) && self.domain.contains(b.max) && self.box_clear(&b)
     }
 
@@ -223,9 +246,11 @@ impl Kernel<'_> {
     /// phase's cells alone (whose marks cover the space the layers may take): the cheap test
     /// of a particle near surfaces.
     #[inline]
-    fn step_is_clear(&self, p: &Particle) -> bool {
+    fn step_is_clear(&self, p: &Particle, s: u64, drop: Option<&Droplet>) -> bool {
         let now = self.now(p);
-        let b = self.flight_box(now, 1);
+        // Over one step the air is held at its value at the step's start.
+        let air = drop.map(|_| self.air_at(s, now.x).length());
+        let b = self.flight_box(now, 1, air);
         self.domain.contains(b.min) && self.domain.contains(b.max) && self.scene.box_is_clear(&b)
     }
 
@@ -239,14 +264,23 @@ impl Kernel<'_> {
         Now { x, v }
     }
 
-    /// A box that holds every point of the flight from `now` over `k` steps.
+    /// A box that holds every point of the flight from `now` over `k` steps; `air` bounds
+    /// the speed of the air the particle flies through, m/s, if it feels any.
     #[inline]
-    fn flight_box(&self, now: Now, k: u64) -> Aabb {
+    fn flight_box(&self, now: Now, k: u64, air: Option<f64>) -> Aabb {
         let t = k as f64 * self.dt;
         let g = self.motion.gravity;
         // A bound of the speed over the flight (the largest component times √3 bounds the
         // length), with no square root.
         let speed = now.v.abs().max_element() * 1.733 + self.g_len * t;
+        if let Some(air) = air {
+            // Each step moves the velocity towards the air's by a convex combination and adds
+            // at most g Δt: no point lies farther than the larger speed and gravity allow; the
+            // f32 rounding of each step's velocity adds as for Euler.
+            let speed = speed.max(air + self.g_len * t);
+            let reach = t * speed * (1.0 + k as f64 * f64::from(f32::EPSILON)) + BOX_MARGIN;
+            return Aabb { min: now.x - reach, max: now.x + reach };
+        }
         if self.motion.drag > 0.0 {
             // Drag only slows: no point lies farther than the speed now and gravity allow.
             let reach = t * speed + BOX_MARGIN;
@@ -313,31 +347,109 @@ impl Kernel<'_> {
         clear
     }
 
-    /// Moves `p` through `k` steps in which it certainly meets nothing.
+    /// Moves `p` through `k` steps from step `s` in which it certainly meets nothing; returns
+    /// the steps taken: `k`, or fewer where a droplet drifts out of the gun's air first (see
+    /// [`Kernel::carried_off`]).
     #[inline]
-    fn coast(&self, p: &mut Particle, k: u64) {
+    fn coast(&self, p: &mut Particle, k: u64, s: u64, drop: Option<&Droplet>, books: &mut Books) -> u64 {
         match self.motion.integrator {
-            Integrator::Exact => p.since += k as u16,
+            Integrator::Exact => {
+                p.since += k as u16;
+                k
+            }
             Integrator::Euler | Integrator::SemiImplicitEuler => {
                 let (mut x, mut v) = (p.anchor, p.anchor_velocity());
-                for _ in 0..k {
-                    let (x1, v1) = self.motion.advance(x, v, self.dt);
+                let mut done = 0;
+                while done < k {
+                    let (x1, v1) = match (drop, &self.air) {
+                        (Some(d), Some(air)) => {
+                            let u = self.air_at(s + done, x);
+                            if self.carried_off(p, s + done, d, (x, v, u), books) {
+                                break;
+                            }
+                            air.flow.advance(d, x, v, u, self.motion.gravity, self.dt)
+                        }
+                        _ => self.motion.advance(x, v, self.dt),
+                    };
                     x = x1;
                     v = v1.as_vec3().as_dvec3();
+                    done += 1;
                 }
                 p.anchor = x;
                 p.velocity = v.as_vec3();
+                done
             }
         }
+    }
+
+    /// The droplet `p` is, if it feels the gun's air: a particle from the nozzle, with the
+    /// diameter its id draws.
+    #[inline]
+    fn droplet(&self, p: &Particle) -> Option<Droplet> {
+        let air = self.air.as_ref()?;
+        (p.flags() & flags::RELEASED == 0)
+            .then(|| air.flow.droplet(air.sizes.diameter(&self.key, p.id), self.density))
+    }
+
+    /// The gun's jet in step `s`, if it blows.
+    #[inline]
+    fn jet(&self, s: u64) -> Option<&JetFrame> {
+        let air = self.air.as_ref()?;
+        air.frames.get(s.wrapping_sub(air.first) as usize)?.as_ref()
+    }
+
+    /// The air's velocity at `x` (m) in step `s`, m/s: zero where it is still.
+    #[inline]
+    fn air_at(&self, s: u64, x: DVec3) -> DVec3 {
+        match (&self.air, self.jet(s)) {
+            (Some(air), Some(frame)) => air.flow.velocity(frame, x),
+            _ => DVec3::ZERO,
+        }
+    }
+
+    /// Advances a particle at `x` (m) with velocity `v` (m/s) by `h` (s) within step `s`: through
+    /// the gun's air for a droplet, by the integrator otherwise.
+    #[inline]
+    fn advance(&self, x: DVec3, v: DVec3, h: f64, s: u64, drop: Option<&Droplet>) -> (DVec3, DVec3) {
+        let (Some(d), Some(air)) = (drop, &self.air) else { return self.motion.advance(x, v, h) };
+        air.flow.step(self.jet(s), d, x, v, self.motion.gravity, h)
+    }
+
+    /// True, and `p` retired as overspray, if at the start of step `s` the droplet `d` at `x`
+    /// (m) moving at `v` (m/s) where the air moves at `u` (m/s) will strike nothing the jet aims
+    /// at (see [`AirFlow::carried_off`]).
+    #[inline]
+    fn carried_off(
+        &self,
+        p: &mut Particle,
+        s: u64,
+        d: &Droplet,
+        (x, v, u): (DVec3, DVec3, DVec3),
+        books: &mut Books,
+    ) -> bool {
+        let Some(air) = &self.air else { return false };
+        if !air.flow.carried_off(self.jet(s), d, x, v, u, self.motion.gravity) {
+            return false;
+        }
+        books.tally.overspray.add(self.volumes.of(p.id, p.flags()));
+        p.set_flags(p.flags() & !flags::ALIVE);
+        true
     }
 
     /// The full step `s` of `p`: its impacts, then the checks for leaving the domain and for
     /// expiring.
     #[inline(never)]
-    fn full_step(&self, p: &mut Particle, s: u64, books: &mut Books) {
+    fn full_step(&self, p: &mut Particle, s: u64, drop: Option<&Droplet>, books: &mut Books) {
         let now = self.now(p);
+        if let Some(d) = drop
+            && self.carried_off(p, s, d, (now.x, now.v, self.air_at(s, now.x)), books)
+        {
+            p.anchor = now.x;
+            p.velocity = now.v.as_vec3();
+            return;
+        }
         let quanta = self.volumes.of(p.id, p.flags());
-        let (x, v, struck) = self.impacts(p, now, s, quanta, books);
+        let (x, v, struck) = self.impacts(p, now, s, quanta, drop, books);
         if !p.is_alive() {
             // It stuck: it rests where it struck.
             p.anchor = x;
@@ -358,10 +470,23 @@ impl Kernel<'_> {
         let end = self.now(p).x;
         let released = p.flags() & flags::RELEASED != 0;
         let age = (s + 1 - u64::from(p.born)) as f64;
+        let untouched = !released && p.impacts() == 0;
         let fate = if !self.domain.contains(end) {
-            Some(if released { &mut books.tally.released_left } else { &mut books.tally.left_domain })
+            Some(if released {
+                &mut books.tally.released_left
+            } else if untouched {
+                &mut books.tally.overspray
+            } else {
+                &mut books.tally.left_domain
+            })
         } else if age > self.lifetime_steps || p.impacts() >= MAX_IMPACTS {
-            Some(if released { &mut books.tally.released_expired } else { &mut books.tally.expired })
+            Some(if released {
+                &mut books.tally.released_expired
+            } else if untouched {
+                &mut books.tally.overspray
+            } else {
+                &mut books.tally.expired
+            })
         } else {
             None
         };
@@ -380,13 +505,14 @@ impl Kernel<'_> {
         now: Now,
         s: u64,
         quanta: u64,
+        drop: Option<&Droplet>,
         books: &mut Books,
     ) -> (DVec3, DVec3, bool) {
         let (mut x, mut v) = (now.x, now.v);
         let mut remaining = self.dt;
         let mut struck = false;
         for _ in 0..self.max_impacts {
-            let (x_end, v_end, hit) = self.flight(x, v, remaining);
+            let (x_end, v_end, hit) = self.flight(x, v, remaining, s, drop);
             let Some(strike) = hit else {
                 return (x_end, v_end, struck);
             };
@@ -560,12 +686,20 @@ impl Kernel<'_> {
         }
     }
 
-    /// Flies from `x` with velocity `v` for `dt`: the end position and velocity, and the first
+    /// Flies from `x` with velocity `v` for `dt` within step `step` (a droplet `drop` through the
+    /// gun's air): the end position and velocity, and the first
     /// hit on the way. A deposited layer is struck on its top, found along the straight chord
     /// of the step (for the exact integrator, the arc's chord, which it leaves by at most
     /// g Δt²/8).
-    fn flight(&self, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3, Option<Strike>) {
-        let (x1, v1) = self.motion.advance(x, v, dt);
+    fn flight(
+        &self,
+        x: DVec3,
+        v: DVec3,
+        dt: f64,
+        step: u64,
+        drop: Option<&Droplet>,
+    ) -> (DVec3, DVec3, Option<Strike>) {
+        let (x1, v1) = self.advance(x, v, dt, step, drop);
         let mut hit = self.bare_hit(x, v, x1, v1, dt).map(|(surface, hit, velocity)| Strike {
             surface,
             hit,

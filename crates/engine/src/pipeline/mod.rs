@@ -119,6 +119,8 @@ struct Plan {
     models: Vec<ImpactModel>,
     /// Layer stages with their period in steps.
     stages: Vec<(u64, Arc<dyn LayerStage>)>,
+    /// The emitter's droplet sizes, tabulated, where the gun's air needs them.
+    sizes: Option<crate::emission::DropletSizes>,
 }
 
 /// The data sets the stages work on.

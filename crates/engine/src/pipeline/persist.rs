@@ -81,11 +81,12 @@ fn target_amounts(t: &mut TargetTally) -> [&mut Tallied; 7] {
 }
 
 /// The run's totals, in a fixed order.
-fn totals(t: &mut Tally) -> [&mut Tallied; 10] {
+fn totals(t: &mut Tally) -> [&mut Tallied; 11] {
     [
         &mut t.emitted,
         &mut t.left_domain,
         &mut t.expired,
+        &mut t.overspray,
         &mut t.substrate_first_impacts,
         &mut t.substrate_first_rebounds,
         &mut t.released,

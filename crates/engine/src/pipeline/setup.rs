@@ -4,6 +4,7 @@ use super::{Plan, Simulation, State, Workers};
 use crate::collision::{Scene, SurfaceId, SurfaceKind, SurfaceRef};
 use crate::config::{QUANTA_PER_PARTICLE, SimulationConfig, TargetConfig};
 use crate::deposit::{DepositSurface, Pending};
+use crate::emission::DropletSizes;
 use crate::events::ImpactLog;
 use crate::particles::{StreamKey, Swarm};
 use crate::tally::{PathTally, Tally};
@@ -62,6 +63,7 @@ pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simu
         key: StreamKey::new(c.seed),
         models,
         stages: c.layer_stages.iter().map(|s| (steps_of(s.interval), s.stage.clone())).collect(),
+        sizes: c.motion.air.and(c.emitter.droplets.as_ref()).map(DropletSizes::new),
     };
     let state = State {
         step: 0,

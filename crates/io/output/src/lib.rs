@@ -210,6 +210,11 @@ fn target_files(
         let f32s = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<f32>>();
         let n = name("thickness", "npy");
         files.push((n.clone(), npy_bytes(&shape, &f32s(&thickness), Path::new(&n))?));
+        if let Some(solids) = sc.process().volume_solids {
+            let dry: Vec<f64> = thickness.iter().map(|x| x * solids).collect();
+            let n = name("dry_thickness", "npy");
+            files.push((n.clone(), npy_bytes(&shape, &f32s(&dry), Path::new(&n))?));
+        }
         let n = name("hits", "npy");
         files.push((n.clone(), npy_bytes(&shape, t.surface.hits(), Path::new(&n))?));
         if let Some(e) = &t.erosion {

@@ -72,7 +72,18 @@ fn maps_of(t: &Target, sc: &Scenario, thickness: &[f64], draw: &Draw<'_>) -> Vec
     let scale = Scale::thickness(max);
     let mut out = Vec::new();
     if max > 0.0 {
-        out.push(("thickness", draw(thickness, None, &format!("{}: thickness", t.name), &scale, max)));
+        let title = match sc.process().volume_solids {
+            Some(_) => format!("{}: wet film", t.name),
+            None => format!("{}: thickness", t.name),
+        };
+        out.push(("thickness", draw(thickness, None, &title, &scale, max)));
+        if let Some(solids) = sc.process().volume_solids {
+            // The dry film: the wet film times the paint's volume solids, in µm.
+            let dry: Vec<f64> = thickness.iter().map(|x| x * solids).collect();
+            let scale = Scale { label: "dry film [\u{b5}m]".into(), factor: 1e6, footnote: None };
+            let title = format!("{}: dry film ({:.0} % solids by volume)", t.name, solids * 100.0);
+            out.push(("dry_thickness", draw(&dry, None, &title, &scale, max * solids)));
+        }
     }
     // Impacts per cm², the map a blasting jet leaves.
     let hits: Vec<f64> = (0..thickness.len())

@@ -8,7 +8,7 @@ use spraysim_engine::config::{
     ErosionConfig, Material, ObstacleConfig, PathWindow, ScheduledStage, SimulationConfig, TargetConfig,
 };
 use spraysim_engine::emission::{self, Emitter, NozzlePath, Waypoint, circling, raster};
-use spraysim_engine::motion::Motion;
+use spraysim_engine::motion::{AirFlow, DragLaw, Motion};
 use spraysim_engine::process::erosion::{Finnie, Oka};
 use spraysim_engine::process::layer::{CohesionStage, DripStage, SlumpStage, Strength};
 use spraysim_engine::process::{ErosionLaw, ImpactModel};
@@ -139,11 +139,12 @@ fn config(sc: &Scenario) -> SimulationConfig {
         duration: s.duration,
         seed: s.seed,
         max_impacts_per_step: s.max_impacts_per_step,
-        motion: Motion { gravity: v3(s.gravity), drag: p.drag, integrator: s.integrator },
+        motion: Motion { gravity: v3(s.gravity), drag: p.drag, integrator: s.integrator, air: air(sc.air()) },
         material: Material {
             density: p.density,
             max_lifetime: p.max_lifetime,
             coverage_threshold: p.coverage_threshold,
+            volume_solids: p.volume_solids,
         },
         emitter: emitter(sc.emitter(), p.flow_rate),
         nozzle: nozzle_path(sc),
@@ -234,7 +235,26 @@ pub(crate) fn emitter(e: &EmitterParams, flow_rate: f64) -> Emitter {
         speed: e.speed,
         spawn_rate: e.spawn_rate,
         particle_volume: flow_rate / e.spawn_rate,
+        droplets: e.droplets.distribution(),
     }
+}
+
+/// The engine's air flow of `a` (`None`: still air).
+fn air(a: &AirParams) -> Option<AirFlow> {
+    let AirParams::Jet(j) = a else { return None };
+    Some(AirFlow {
+        speed: j.speed,
+        outlet_diameter: j.outlet_diameter,
+        spread: j.spread,
+        stagnation_layer: j.stagnation_layer,
+        viscosity: j.viscosity,
+        density: j.density,
+        drag_law: match j.drag {
+            DragLawName::Stokes => DragLaw::Stokes,
+            DragLawName::SchillerNaumann => DragLaw::SchillerNaumann,
+        },
+        booth_speed: j.booth_speed,
+    })
 }
 
 /// The surface a raster over the target named `name` covers.

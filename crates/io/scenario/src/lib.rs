@@ -28,6 +28,7 @@
 mod budget;
 mod build;
 mod error;
+mod guns;
 mod input;
 mod mesh;
 mod overrides;
@@ -42,6 +43,7 @@ mod tool_path;
 
 pub use budget::{Budget, MemoryPart, bytes_text, default_memory_limit, machine_memory};
 pub use error::ScenarioError;
+pub use guns::Gun;
 pub use input::{InputError, InputKind, InputProblem, read_input};
 pub use mesh::{MAX_TRIANGLES, MeshError};
 pub use overrides::Value;

@@ -6,7 +6,7 @@
 //! `params/rebound/`.
 
 use crate::params::{
-    ApertureKind, CohesionParams, DirectionKind, EmitterDefaults, ErosionDefaults, ErosionKind,
+    ApertureKind, CohesionParams, DirectionKind, DropletsKind, EmitterDefaults, ErosionDefaults, ErosionKind,
     ImpactDefaults, LayerDefaults, Preset, ProcessDefaults, ReboundKind, SlumpParams, WindowParams,
 };
 use crate::reader::Choice;
@@ -156,6 +156,12 @@ impl Preset {
             sigma: 0.102,
             fan_wide_angle: 60.0,
             fan_narrow_angle: 10.0,
+            // Sizes are not modelled unless asked for (or a paint gun sets them).
+            droplets: DropletsKind::None,
+            droplet_diameter: 0.5e-3,
+            sauter_mean: 30e-6,
+            gsd: 1.9,
+            rr_spread: 2.3,
         };
         match self {
             // Table 1: circular, 10⁴ /s, 20–30 m/s (wet-mix), 32–76 mm, 9–18°; μ and σ are the
@@ -330,6 +336,41 @@ pub fn presets_toml() -> String {
                 _ => out.push_str(&format!("{line}\n")),
             }
         }
+    }
+    out.push_str(&guns_toml());
+    out
+}
+
+/// Every paint gun's settings over the painting preset as TOML blocks: its `[process]` and
+/// `[process.window]` keys, its `[emitter]` and its `[air]`, under a line naming its sources.
+fn guns_toml() -> String {
+    #[derive(serde::Serialize)]
+    struct Sections<'a> {
+        emitter: &'a crate::params::EmitterParams,
+        air: &'a crate::params::AirParams,
+    }
+    let mut out = String::new();
+    for gun in crate::Gun::ALL {
+        let text = format!("[process]\npreset = \"painting\"\ngun = \"{}\"\n", gun.name());
+        let sc = crate::Scenario::from_toml(&text, "a paint gun")
+            .unwrap_or_else(|e| panic!("the {} gun is invalid: {e}", gun.name()));
+        let (p, w) = (sc.process(), &sc.process().window);
+        out.push_str(&format!(
+            "\n# ---- painting with gun = \"{}\" (over the painting preset) ----\n# sources: {}\n\
+             [process]\npreset = \"painting\"\ngun = \"{}\"\nflow_rate = {:?}{:>24}\n\n[process.window]\n\
+             standoff = {:?}{:>24}\nspeed = {:?}{:>24}\n\n",
+            gun.name(),
+            gun.sources(),
+            gun.name(),
+            p.flow_rate,
+            "# m³/s while spraying",
+            w.standoff,
+            "# m, [min, max]",
+            w.speed,
+            "# m/s, [min, max]",
+        ));
+        let sections = Sections { emitter: sc.emitter(), air: sc.air() };
+        out.push_str(&toml::to_string(&sections).unwrap_or_else(|e| panic!("guns always serialise: {e}")));
     }
     out
 }

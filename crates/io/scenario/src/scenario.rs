@@ -36,6 +36,7 @@ pub struct Scenario {
     simulation: SimulationParams,
     process: ProcessParams,
     emitter: EmitterParams,
+    air: AirParams,
     nozzle: NozzleParams,
     obstacles: Vec<ObstacleParams>,
     targets: Vec<TargetParams>,
@@ -48,6 +49,7 @@ impl PartialEq for Scenario {
         self.simulation == o.simulation
             && self.process == o.process
             && self.emitter == o.emitter
+            && self.air == o.air
             && self.nozzle == o.nozzle
             && self.obstacles == o.obstacles
             && self.targets == o.targets
@@ -62,6 +64,7 @@ struct Resolved<'a> {
     simulation: &'a SimulationParams,
     process: &'a ProcessParams,
     emitter: &'a EmitterParams,
+    air: &'a AirParams,
     nozzle: &'a NozzleParams,
     #[serde(rename = "obstacle", skip_serializing_if = "<[_]>::is_empty")]
     obstacles: &'a [ObstacleParams],
@@ -190,11 +193,35 @@ impl Scenario {
         let root = Section::root(table);
         let process = read::process(&root.table_or_empty("process")?, Preset::defaults)?;
         let simulation = read::simulation(&root.table_or_empty("simulation")?, process.drag)?;
+        let gun = process.gun;
+        let air = read::air(&root.table_or_empty("air")?, &gun.map_or_else(AirDefaults::still, |g| g.air()))?;
+        let emitter_defaults = process.preset.emitter_defaults();
+        let air_speed = match &air {
+            AirParams::Jet(j) => j.speed,
+            AirParams::None => 0.0,
+        };
         let emitter = read::emitter(
             &root.table_or_empty("emitter")?,
-            &process.preset.emitter_defaults(),
+            &gun.map_or(emitter_defaults.clone(), |g| g.emitter(emitter_defaults, air_speed)),
             simulation.duration,
         )?;
+        if matches!(air, AirParams::Jet(_)) {
+            if emitter.droplets == DropletsLaw::None {
+                return crate::reader::bad(
+                    "air.model",
+                    "needs droplet sizes: set emitter.droplets (\"fixed\", \"log_normal\" or \"rosin_rammler\")",
+                );
+            }
+            if simulation.integrator == spraysim_engine::motion::Integrator::Exact {
+                return crate::reader::bad(
+                    "air.model",
+                    "has no closed form with simulation.integrator = \"exact\": use \"euler\" or \"semi_implicit_euler\"",
+                );
+            }
+            if process.drag > 0.0 {
+                return crate::reader::bad("air.model", "replaces process.drag: set it to 0");
+            }
+        }
         let mut names = Vec::new();
         let targets = (root.tables("target")?.iter())
             .map(|t| read::target(t, &mut names, &process.impact, &source.base))
@@ -214,6 +241,7 @@ impl Scenario {
             simulation,
             process,
             emitter,
+            air,
             nozzle,
             obstacles,
             targets,
@@ -238,6 +266,7 @@ impl Scenario {
             simulation: &self.simulation,
             process: &self.process,
             emitter: &self.emitter,
+            air: &self.air,
             nozzle: &self.nozzle,
             obstacles: &self.obstacles,
             targets: &self.targets,
@@ -265,6 +294,11 @@ impl Scenario {
     /// `[emitter]`: the particles' start, number, speed and directions.
     pub fn emitter(&self) -> &EmitterParams {
         &self.emitter
+    }
+
+    /// `[air]`: the gun's air, or still air.
+    pub fn air(&self) -> &AirParams {
+        &self.air
     }
 
     /// `[nozzle]`: the nozzle's motion.

@@ -169,6 +169,34 @@ pub fn wall_scene(duration: f64, cells: u32) -> String {
     format!("[simulation]\nduration = {duration:?}\n{}", wall().resolution(cells, cells))
 }
 
+/// The flat-panel test of a paint gun's transfer efficiency: a 1 m × 1 m `panel` (the
+/// [`wall`] resized, 100 × 100 cells) sprayed square by `gun` at its standard standoff and
+/// travel speed, in horizontal passes from the bottom edge to the top that overlap by half the
+/// pattern's width, with the fan turned across the passes (roll 90°) and the gun triggered
+/// 5 cm beyond each edge; `spawn_rate` particles/s, `seed`, and `extra` TOML lines in
+/// `[process]` (say, the paint's volume solids). The run ends 1 s after the last pass, when
+/// every droplet has landed or drifted off.
+pub fn painted_panel(gun: crate::Gun, spawn_rate: f64, seed: u64, extra: &str) -> Scenario {
+    let standoff = gun.standoff();
+    let step = 0.5 * gun.pattern_width(standoff);
+    let text = |duration: f64| {
+        format!(
+            "[simulation]\nduration = {duration:?}\nseed = {seed}\n\
+             [process]\npreset = \"painting\"\ngun = \"{}\"\n{extra}\n\
+             [emitter]\nspawn_rate = {spawn_rate:?}\n\
+             [nozzle]\nroll = 90.0\n\
+             [nozzle.raster]\ntarget = \"panel\"\nstandoff = {standoff:?}\nspeed = {:?}\nstep_over = {step:?}\nlead = 0.05\n\
+             {}[domain]\nmin = [-1.0, -1.5, -0.5]\nmax = [0.5, 1.5, 2.5]\n",
+            gun.name(),
+            gun.travel_speed(),
+            wall().named("panel").size(1.0, 1.0).resolution(100, 100),
+        )
+    };
+    let long = scenario(&text(1e3), "painted panel");
+    let end = long.config().nozzle.spray_end();
+    scenario(&text((end + 1.0).ceil()), "painted panel")
+}
+
 /// The word that selects `integrator` as `[simulation] integrator`, from the table the
 /// scenario reads it by.
 pub fn integrator_word(integrator: Integrator) -> &'static str {

@@ -330,6 +330,17 @@ pub fn peak_rss() -> u64 {
         .unwrap_or(0)
 }
 
+/// Wall time (s) of the first 10 s of the HVLP gun's flat-panel test at 10⁴ particles/s on
+/// `threads` threads, with the gun's air and in still air (the same droplets, flying as the
+/// paper's do), each the median of `repeats` runs after a warm-up: what the air model costs.
+pub fn painting_cost(threads: usize, repeats: usize) -> Result<(f64, f64), BenchError> {
+    let air = spraysim_scenario::scenes::painted_panel(spraysim_scenario::Gun::Hvlp, 1e4, 1, "")
+        .with("simulation.duration", 10.0)?;
+    let still = air.with("air.model", "none")?;
+    let wall = |sc: &Scenario| -> Result<f64, BenchError> { Ok(measure_median(sc, threads, repeats)?.wall) };
+    Ok((wall(&air)?, wall(&still)?))
+}
+
 /// What [`run_matrix`] runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MatrixSettings {
@@ -495,6 +506,12 @@ pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(
         out,
         "{variants} short variants of the reference scene (0.2 s each, one seed each, set up on the broad phase of the previous one, run and reduced to metrics): {:.1} per second",
         short_variants(variants, all)?
+    )?;
+    let (air, still) = painting_cost(all, m.repeats)?;
+    writeln!(
+        out,
+        "painting, the HVLP gun on the flat panel at 10⁴ particles/s for 10 s, {all} threads: {air:.2} s with the gun's air, {still:.2} s in still air ({:.2}× the cost)",
+        air / still
     )?;
     let ms = 1e3 * time_cohesion(1024, 20);
     writeln!(out, "cohesion analysis of a 1024 × 1024 heightfield: {ms:.2} ms")?;

@@ -181,6 +181,7 @@ pub fn direction_histogram(
         speed: [1.0, 1.0],
         spawn_rate: 1.0,
         particle_volume: 1.0,
+        droplets: None,
     };
     let frame = NozzleFrame::new(DVec3::ZERO, DVec3::Z, 0.0);
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);

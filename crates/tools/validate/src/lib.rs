@@ -6,6 +6,8 @@
 
 pub mod checks;
 pub mod epochs;
+pub mod painting;
+mod painting_report;
 pub mod shotcrete;
 mod shotcrete_report;
 pub mod targets;
@@ -109,6 +111,10 @@ pub struct Size {
     pub curved_particles: f64,
     /// Seeds per layer-epoch length.
     pub epoch_seeds: u64,
+    /// Particles per second of the paint guns' panel runs.
+    pub paint_rate: f64,
+    /// Droplets per Stokes number of the impaction check.
+    pub impaction_droplets: usize,
 }
 
 impl Size {
@@ -121,6 +127,8 @@ impl Size {
             rebounds: (1e5 * factor) as u64,
             curved_particles: 1e5 * factor,
             epoch_seeds: ((1.2 * factor).round() as u64).max(8),
+            paint_rate: 500.0 * factor,
+            impaction_droplets: (120.0 * factor).round().max(1.0) as usize,
         }
     }
 }
@@ -156,6 +164,11 @@ pub fn report(size: Size, threads: usize, mut progress: impl FnMut(&str)) -> Rep
     conservation_section(&mut w, threads);
     progress("layer epochs");
     epoch_section(&mut w, size, threads);
+    progress("droplets in the gun's air");
+    painting_report::drag_section(&mut w);
+    painting_report::impaction_section(&mut w, size.impaction_droplets);
+    progress("paint guns");
+    painting_report::guns_section(&mut w, size.paint_rate, threads);
 
     let mut md = String::from(
         "# Validation report\n\nWritten by `spraysim validate --output docs` (the same command regenerates \

@@ -1,4 +1,4 @@
-//! `[emitter]`: the nozzle's aperture, spawn rate, speeds and spray cone.
+//! `[emitter]`: the nozzle's aperture, spawn rate, speeds, spray cone and droplet sizes.
 
 use crate::reader::{Check, Choice, Read, Section, bad, choices};
 use serde::Serialize;
@@ -92,6 +92,65 @@ choices!(DirectionKind {
     "fan" => DirectionKind::Fan,
 });
 
+/// The sizes of the droplets (or grains) the particles stand for, by volume (see the engine's
+/// `emission::DropletSizes`: every particle carries the same volume, and its diameter sets its
+/// drag in the gun's air).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "droplets", rename_all = "snake_case")]
+pub enum DropletsLaw {
+    /// Sizes are not modelled (no air to feel them).
+    None,
+    /// Every droplet has one diameter.
+    Fixed {
+        /// Diameter, m.
+        droplet_diameter: f64,
+    },
+    /// Log-normal in number with geometric standard deviation σ_g.
+    LogNormal {
+        /// Sauter mean diameter D₃₂, m.
+        sauter_mean: f64,
+        /// Geometric standard deviation σ_g (> 1).
+        gsd: f64,
+    },
+    /// Rosin–Rammler in volume, with spread exponent n.
+    RosinRammler {
+        /// Sauter mean diameter D₃₂, m.
+        sauter_mean: f64,
+        /// Spread exponent n (> 1; larger is narrower).
+        rr_spread: f64,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum DropletsKind {
+    None,
+    Fixed,
+    LogNormal,
+    RosinRammler,
+}
+
+choices!(DropletsKind {
+    "none" => DropletsKind::None,
+    "fixed" => DropletsKind::Fixed,
+    "log_normal" => DropletsKind::LogNormal,
+    "rosin_rammler" => DropletsKind::RosinRammler,
+});
+
+impl DropletsLaw {
+    /// The engine's size distribution (`None` where sizes are not modelled).
+    pub fn distribution(&self) -> Option<spraysim_engine::emission::SizeDistribution> {
+        use spraysim_engine::emission::SizeDistribution as D;
+        match *self {
+            DropletsLaw::None => None,
+            DropletsLaw::Fixed { droplet_diameter } => Some(D::Fixed { diameter: droplet_diameter }),
+            DropletsLaw::LogNormal { sauter_mean, gsd } => Some(D::LogNormal { sauter_mean, gsd }),
+            DropletsLaw::RosinRammler { sauter_mean, rr_spread } => {
+                Some(D::RosinRammler { sauter_mean, spread: rr_spread })
+            }
+        }
+    }
+}
+
 /// `[emitter]`: where on the nozzle particles start, how many, how fast and in which
 /// directions.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -106,6 +165,9 @@ pub struct EmitterParams {
     /// How directions spread about the spray axis: `direction` and its angle keys.
     #[serde(flatten)]
     pub direction: DirectionLaw,
+    /// The droplet sizes: `droplets` and its keys.
+    #[serde(flatten)]
+    pub droplets: DropletsLaw,
 }
 
 impl EmitterParams {
@@ -138,6 +200,11 @@ pub(crate) struct EmitterDefaults {
     pub sigma: f64,
     pub fan_wide_angle: f64,
     pub fan_narrow_angle: f64,
+    pub droplets: DropletsKind,
+    pub droplet_diameter: f64,
+    pub sauter_mean: f64,
+    pub gsd: f64,
+    pub rr_spread: f64,
 }
 
 /// Reads `[emitter]` over a preset's defaults `d`; `duration` (s) bounds the particle count.
@@ -175,12 +242,41 @@ pub(crate) fn read(s: &Section<'_>, d: &EmitterDefaults, duration: f64) -> Read<
         return bad(&s.key("speed"), "must allow a speed above 0 m/s");
     }
     let direction = read_direction(s, d)?;
+    let droplets = read_droplets(s, d)?;
     s.finish(&format!(
-        "an emitter with shape = \"{}\" and direction = \"{}\"",
+        "an emitter with shape = \"{}\", direction = \"{}\" and droplets = \"{}\"",
         shape.name(),
-        s.choice("direction", Some(d.direction))?.name()
+        s.choice("direction", Some(d.direction))?.name(),
+        s.choice("droplets", Some(d.droplets))?.name()
     ))?;
-    Ok(EmitterParams { aperture, spawn_rate, speed, direction })
+    Ok(EmitterParams { aperture, spawn_rate, speed, direction, droplets })
+}
+
+fn read_droplets(s: &Section<'_>, d: &EmitterDefaults) -> Read<DropletsLaw> {
+    let diameter = |k: &str, v: f64| s.number(k, Some(v), Check::Positive(0.1), "m");
+    let law = match s.choice("droplets", Some(d.droplets))? {
+        DropletsKind::None => DropletsLaw::None,
+        DropletsKind::Fixed => {
+            DropletsLaw::Fixed { droplet_diameter: diameter("droplet_diameter", d.droplet_diameter)? }
+        }
+        DropletsKind::LogNormal => {
+            let sauter_mean = diameter("sauter_mean", d.sauter_mean)?;
+            let gsd = s.number("gsd", Some(d.gsd), Check::Within(1.0, 10.0), "")?;
+            if gsd <= 1.0 {
+                return bad(&s.key("gsd"), "must exceed 1 (1 is a single size: use droplets = \"fixed\")");
+            }
+            DropletsLaw::LogNormal { sauter_mean, gsd }
+        }
+        DropletsKind::RosinRammler => {
+            let sauter_mean = diameter("sauter_mean", d.sauter_mean)?;
+            let rr_spread = s.number("rr_spread", Some(d.rr_spread), Check::Within(1.0, 100.0), "")?;
+            if rr_spread <= 1.0 {
+                return bad(&s.key("rr_spread"), "must exceed 1: at n ≤ 1 the Sauter mean diameter is 0");
+            }
+            DropletsLaw::RosinRammler { sauter_mean, rr_spread }
+        }
+    };
+    Ok(law)
 }
 
 fn read_direction(s: &Section<'_>, d: &EmitterDefaults) -> Read<DirectionLaw> {

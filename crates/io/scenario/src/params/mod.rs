@@ -6,6 +6,7 @@
 //! each under `targets/`, `obstacles/` and `rebound/`, listed once per family with
 //! [`registry::kinds!`](registry).
 
+mod air;
 mod emitter;
 pub(crate) mod mesh;
 mod nozzle;
@@ -18,8 +19,10 @@ mod run;
 mod surface;
 mod targets;
 
-pub use emitter::{Aperture, DirectionLaw, EmitterParams};
-pub(crate) use emitter::{ApertureKind, DirectionKind, EmitterDefaults};
+pub(crate) use air::{AirDefaults, AirKind};
+pub use air::{AirParams, DragLawName, JetParams};
+pub use emitter::{Aperture, DirectionLaw, DropletsLaw, EmitterParams};
+pub(crate) use emitter::{ApertureKind, DirectionKind, DropletsKind, EmitterDefaults};
 pub use mesh::MeshParams;
 pub(crate) use nozzle::LengthUnit;
 pub use nozzle::{NozzleMotion, NozzleParams, RasterParams, WaypointParams};
@@ -51,6 +54,7 @@ pub(crate) fn v3(a: [f64; 3]) -> glam::DVec3 {
 
 pub(crate) mod read {
     //! The section readers.
+    pub(crate) use super::air::read as air;
     pub(crate) use super::emitter::read as emitter;
     pub(crate) use super::nozzle::read as nozzle;
     pub(crate) use super::obstacles::read_obstacle as obstacle;

@@ -40,6 +40,13 @@ impl Preset {
 pub struct ProcessParams {
     /// The preset that supplied the defaults.
     pub preset: Preset,
+    /// The paint gun whose spray, droplets, air and window override the painting preset's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gun: Option<crate::guns::Gun>,
+    /// Share of the paint's volume that stays in the dry film (its solids by volume, from the
+    /// data sheet), 0–1: the dry film is the wet one times it. `None`: only the wet film.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_solids: Option<f64>,
     /// Material density, kg/m³.
     pub density: f64,
     /// Volume flow rate of material through the nozzle while spraying, m³/s.
@@ -254,9 +261,24 @@ pub(crate) struct LayerDefaults {
 /// Reads `[process]` over the defaults (`defaults` of its preset) of the preset it names.
 pub(crate) fn read(s: &Section<'_>, defaults: impl Fn(Preset) -> ProcessDefaults) -> Read<ProcessParams> {
     let preset = s.choice("preset", Some(Preset::Shotcrete))?;
-    let d = &defaults(preset);
+    let gun = if s.has("gun") { Some(s.choice::<crate::guns::Gun>("gun", None)?) } else { None };
+    if gun.is_some() && preset != Preset::Painting {
+        return crate::reader::bad(&s.key("gun"), "is a paint gun: it needs process.preset = \"painting\"");
+    }
+    let d = &match gun {
+        Some(gun) => gun.process(defaults(preset)),
+        None => defaults(preset),
+    };
+    let volume_solids = if s.has("volume_solids") {
+        let v = s.number("volume_solids", None, Check::Positive(1.0), "")?;
+        Some(v)
+    } else {
+        None
+    };
     let p = ProcessParams {
         preset,
+        gun,
+        volume_solids,
         density: s.number("density", Some(d.density), Check::Positive(25_000.0), "kg/m³")?,
         flow_rate: s.number("flow_rate", Some(d.flow_rate), Check::Positive(10.0), "m³/s")?,
         drag: s.number("drag", Some(d.drag), Check::Within(0.0, 1e3), "1/m")?,
