@@ -470,30 +470,22 @@ impl Kernel<'_> {
         let end = self.now(p).x;
         let released = p.flags() & flags::RELEASED != 0;
         let age = (s + 1 - u64::from(p.born)) as f64;
-        let untouched = !released && p.impacts() == 0;
-        let fate = if !self.domain.contains(end) {
-            Some(if released {
-                &mut books.tally.released_left
-            } else if untouched {
-                &mut books.tally.overspray
-            } else {
-                &mut books.tally.left_domain
-            })
-        } else if age > self.lifetime_steps || p.impacts() >= MAX_IMPACTS {
-            Some(if released {
-                &mut books.tally.released_expired
-            } else if untouched {
-                &mut books.tally.overspray
-            } else {
-                &mut books.tally.expired
-            })
-        } else {
-            None
-        };
-        if let Some(fate) = fate {
-            fate.add(quanta);
-            p.set_flags(p.flags() & !flags::ALIVE);
+        let left = !self.domain.contains(end);
+        if !left && age <= self.lifetime_steps && p.impacts() < MAX_IMPACTS {
+            return;
         }
+        // Out of flight: left the domain or expired; a nozzle particle that never struck
+        // anything is overspray either way.
+        let t = &mut books.tally;
+        let fate = match (released, left) {
+            (true, true) => &mut t.released_left,
+            (true, false) => &mut t.released_expired,
+            (false, _) if p.impacts() == 0 => &mut t.overspray,
+            (false, true) => &mut t.left_domain,
+            (false, false) => &mut t.expired,
+        };
+        fate.add(quanta);
+        p.set_flags(p.flags() & !flags::ALIVE);
     }
 
     /// Moves `p` from `now` through step `s`, resolving up to `max_impacts` impacts; returns the

@@ -21,6 +21,21 @@ use spraysim_scenario::{Gun, Scenario, scenes};
 /// Air at 20 °C: dynamic viscosity, Pa·s.
 const AIR_VISCOSITY: f64 = 1.81e-5;
 
+/// A round jet of `speed` (m/s) from a `outlet_diameter` (m) outlet in air at 20 °C, with
+/// `drag_law`, and no booth to carry droplets off: the air of these experiments.
+fn air(speed: f64, outlet_diameter: f64, drag_law: DragLaw) -> AirFlow {
+    AirFlow {
+        speed,
+        outlet_diameter,
+        spread: [0.094, 0.094],
+        stagnation_layer: 0.14,
+        viscosity: AIR_VISCOSITY,
+        density: 1.2,
+        drag_law,
+        booth_speed: 0.0,
+    }
+}
+
 /// Paint's density in these experiments, kg/m³ (the painting preset's).
 const PAINT_DENSITY: f64 = 1200.0;
 
@@ -54,16 +69,7 @@ pub fn stokes_flight(diameter: f64, speed: f64, dt: f64, steps: u64) -> StokesFl
         gravity: GRAVITY,
         drag: 0.0,
         integrator: Integrator::Euler,
-        air: Some(AirFlow {
-            speed: 0.0,
-            outlet_diameter: 0.005,
-            spread: [0.094, 0.094],
-            stagnation_layer: 0.14,
-            viscosity: AIR_VISCOSITY,
-            density: 1.2,
-            drag_law: DragLaw::Stokes,
-            booth_speed: 0.0,
-        }),
+        air: Some(air(0.0, 0.005, DragLaw::Stokes)),
     };
     let start = DVec3::new(-1.5, 0.0, 1.5);
     c.nozzle = NozzlePath::fixed(start, DVec3::X, 0.0);
@@ -109,16 +115,7 @@ pub fn stokes_flight(diameter: f64, speed: f64, dt: f64, steps: u64) -> StokesFl
 /// dv/dt = −v/τ_f(|v|) at a step 1000 times finer. Returns the distance flown (m) and the
 /// error in it (m).
 pub fn drag_law_error(diameter: f64, speed: f64, dt: f64, duration: f64) -> (f64, f64) {
-    let air = AirFlow {
-        speed: 0.0,
-        outlet_diameter: 0.005,
-        spread: [0.094, 0.094],
-        stagnation_layer: 0.14,
-        viscosity: AIR_VISCOSITY,
-        density: 1.2,
-        drag_law: DragLaw::SchillerNaumann,
-        booth_speed: 0.0,
-    };
+    let air = air(0.0, 0.005, DragLaw::SchillerNaumann);
     let d = air.droplet(diameter, PAINT_DENSITY);
     let steps = (duration / dt).round() as u64;
     let (mut x, mut v) = (DVec3::ZERO, DVec3::X * speed);
@@ -165,16 +162,7 @@ pub fn local_strain_bound(stokes: f64) -> f64 {
 /// 0.1 ms (with the engine's substeps) until it reaches the wall, leaves the layer or 0.2 s
 /// pass. The droplet's diameter is chosen for each Stokes number.
 pub fn impaction(stokes: &[f64], droplets: usize) -> Vec<Impaction> {
-    let air = AirFlow {
-        speed: 100.0,
-        outlet_diameter: 0.006,
-        spread: [0.094, 0.094],
-        stagnation_layer: 0.14,
-        viscosity: AIR_VISCOSITY,
-        density: 1.2,
-        drag_law: DragLaw::Stokes,
-        booth_speed: 0.0,
-    };
+    let air = air(100.0, 0.006, DragLaw::Stokes);
     let (h_wall, across) = (0.2, [DVec3::Y, DVec3::Z]);
     let frame = air.frame(DVec3::ZERO, DVec3::X, across, Some((DVec3::X * h_wall, DVec3::NEG_X)));
     let wall = frame.wall.unwrap_or_else(|| panic!("the jet strikes the wall"));
