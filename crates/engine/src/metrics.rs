@@ -72,11 +72,12 @@ pub struct VolumeBalance {
     pub on_backs: f64,
     /// Stuck on obstacles, m³.
     pub on_obstacles: f64,
-    /// Carried out of the domain box, m³.
+    /// Carried out of the domain box after striking something, m³.
     pub left_domain: f64,
-    /// Carried by particles retired in flight at the maximum lifetime, m³.
+    /// Carried by particles retired in flight at the maximum lifetime after striking
+    /// something, m³.
     pub expired: f64,
-    /// Overspray: never struck a surface, carried off or out of the domain, m³.
+    /// Overspray: never struck a surface, and left the domain, expired or was carried off, m³.
     pub overspray: f64,
     /// In flight now (from the nozzle or released), m³.
     pub in_flight: f64,

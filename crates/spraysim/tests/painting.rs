@@ -191,3 +191,24 @@ fn stepping_through_the_air_equals_advancing() {
     assert_eq!(stepped.targets()[0].surface.thickness(), advanced.targets()[0].surface.thickness());
     assert!(a.fates.overspray.count > 0 && a.fates.stuck_on_targets.count > 0);
 }
+
+/// Coasting changes only the work, never the result: a droplet that coasts through a step
+/// moves through the air as a full step moves it, substeps and all.
+#[test]
+fn coasting_through_the_air_changes_no_result() {
+    let sc = short_panel(Gun::Air, 3000.0).with("simulation.duration", 1.0).unwrap_or_else(|e| panic!("{e}"));
+    let run = |coasting: bool| {
+        let mut sim = Simulation::new(sc.config()).expect("valid");
+        sim.set_coasting(coasting);
+        sim.run(|_| {});
+        let m = sim.metrics();
+        (
+            m.fates.overspray.volume,
+            m.fates.stuck_on_targets.count,
+            sim.targets()[0].surface.thickness().to_vec(),
+        )
+    };
+    let (on, off) = (run(true), run(false));
+    assert!(on.1 > 0 && on.0 > 0.0);
+    assert!(on == off, "coasting changed the run");
+}

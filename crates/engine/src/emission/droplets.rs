@@ -21,15 +21,17 @@
 //! 2^m particles of a block over 2^m equal strata of the distribution, so even a short run, or
 //! one step's births, samples all sizes in proportion; the scramble, keyed by the seed and the
 //! block, changes which particle gets which size from block to block. The table's midpoint
-//! quantiles leave out the outer 1/(2·[`TABLE`]) of each tail (0.1 %), whose volume is split
+//! quantiles leave out the outer 1/(2·[`TABLE`]) of each tail (0.2 %), whose volume is split
 //! over the rest.
 
 use crate::emission::inverse_normal_cdf;
 use crate::particles::StreamKey;
 
-/// Quantiles a size distribution is tabulated at (a power of two, at most 256: the index is a
-/// byte).
+/// Quantiles a size distribution is tabulated at: 256, so that a particle's entry is a byte of
+/// its id, bit-reversed (see the module's docs).
 pub const TABLE: usize = 256;
+
+const _: () = assert!(TABLE == 1 << u8::BITS);
 
 /// The volume-weighted distribution of droplet diameters an emitter sprays, each named by its
 /// Sauter mean diameter D₃₂ (the diameter of a droplet with the spray's volume-to-surface
@@ -80,8 +82,9 @@ impl SizeDistribution {
         self.volume_quantile(0.5)
     }
 
-    /// Checks the parameters: positive, finite diameters under 0.1 m, σ_g in (1, 10], n in
-    /// (1, 100]. The message names the parameter.
+    /// Checks the parameters: positive, finite diameters under 0.1 m, σ_g in (1, 3], n in
+    /// [1.2, 100] (measured sprays lie well inside: σ_g 1.4–2.5, n 1.5–4; wider ones put the
+    /// table's largest droplet far beyond the spray). The message names the parameter.
     pub fn check(&self) -> Result<(), String> {
         let diameter = |name: &str, d: f64| {
             if d.is_finite() && d > 0.0 && d <= 0.1 {
@@ -94,19 +97,19 @@ impl SizeDistribution {
             SizeDistribution::Fixed { diameter: d } => diameter("diameter", d),
             SizeDistribution::LogNormal { sauter_mean, gsd } => {
                 diameter("sauter_mean", sauter_mean)?;
-                if gsd.is_finite() && gsd > 1.0 && gsd <= 10.0 {
+                if gsd.is_finite() && gsd > 1.0 && gsd <= 3.0 {
                     Ok(())
                 } else {
-                    Err(format!("gsd must lie in (1, 10], got {gsd}"))
+                    Err(format!("gsd must lie in (1, 3], got {gsd}"))
                 }
             }
             SizeDistribution::RosinRammler { sauter_mean, spread } => {
                 diameter("sauter_mean", sauter_mean)?;
-                if spread.is_finite() && spread > 1.0 && spread <= 100.0 {
+                if spread.is_finite() && (1.2..=100.0).contains(&spread) {
                     Ok(())
                 } else {
                     Err(format!(
-                        "spread must lie in (1, 100] (n ≤ 1 has no finite Sauter mean), got {spread}"
+                        "spread must lie in [1.2, 100] (n ≤ 1 has no finite Sauter mean), got {spread}"
                     ))
                 }
             }

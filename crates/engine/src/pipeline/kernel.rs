@@ -191,7 +191,7 @@ impl Kernel<'_> {
             if long {
                 long = false;
                 let k = (to - s).min(young);
-                if k > 0 && self.coasts(p, k, drop) {
+                if k > 0 && self.coasts(p, k, s, drop) {
                     let done = self.coast(p, k, s, drop, books);
                     books.steps += done;
                     s += done;
@@ -233,12 +233,10 @@ impl Kernel<'_> {
     /// True if `p`'s flight over its next `k` steps certainly stays inside the domain and meets
     /// nothing (see [`Kernel::box_clear`]).
     #[inline]
-    fn coasts(&self, p: &Particle, k: u64, drop: Option<&Droplet>) -> bool {
-        let air = match (drop, &self.air) {
-            (Some(_), Some(air)) => Some(air.max_speed),
-            _ => None,
-        };
-        let b = self.flight_box(self.now(p), k, air);
+    fn coasts(&self, p: &Particle, k: u64, s: u64, drop: Option<&Droplet>) -> bool {
+        let now = self.now(p);
+        let air = drop.and_then(|_| self.air_bound(now, s, k));
+        let b = self.flight_box(now, k, air);
         self.domain.contains(b.min) && self.domain.contains(b.max) && self.box_clear(&b)
     }
 
@@ -248,10 +246,33 @@ impl Kernel<'_> {
     #[inline]
     fn step_is_clear(&self, p: &Particle, s: u64, drop: Option<&Droplet>) -> bool {
         let now = self.now(p);
-        // Over one step the air is held at its value at the step's start.
-        let air = drop.map(|_| self.air_at(s, now.x).length());
+        let air = drop.and_then(|_| self.air_bound(now, s, 1));
         let b = self.flight_box(now, 1, air);
         self.domain.contains(b.min) && self.domain.contains(b.max) && self.scene.box_is_clear(&b)
+    }
+
+    /// A bound of the air's speed (m/s) anywhere a droplet at `now` can reach in the `k` steps
+    /// from step `s`: a speed U such that the jet of each of those steps is no faster than U
+    /// within the distance a flight no faster than U (and gravity) covers. Found by raising U
+    /// from the droplet's own speed, at most three times, else the bound over the whole jet.
+    #[inline]
+    fn air_bound(&self, now: Now, s: u64, k: u64) -> Option<f64> {
+        let air = self.air.as_ref()?;
+        let t = k as f64 * self.dt;
+        let mut speed = now.v.abs().max_element() * 1.733;
+        for _ in 0..3 {
+            let reach =
+                (speed + self.g_len * t) * t * (1.0 + k as f64 * f64::from(f32::EPSILON)) + BOX_MARGIN;
+            let fastest = (s..s + k)
+                .filter_map(|step| self.jet(step))
+                .map(|frame| air.flow.speed_bound(frame, now.x, reach))
+                .fold(0.0, f64::max);
+            if fastest <= speed {
+                return Some(speed);
+            }
+            speed = fastest;
+        }
+        Some(air.max_speed)
     }
 
     /// Position and velocity of `p` at the start of its next step.
@@ -367,7 +388,8 @@ impl Kernel<'_> {
                             if self.carried_off(p, s + done, d, (x, v, u), books) {
                                 break;
                             }
-                            air.flow.advance(d, x, v, u, self.motion.gravity, self.dt)
+                            // As a full step moves it: through the jet in its substeps.
+                            air.flow.step(self.jet(s + done), d, x, v, self.motion.gravity, self.dt)
                         }
                         _ => self.motion.advance(x, v, self.dt),
                     };

@@ -180,6 +180,11 @@ impl Gun {
         d
     }
 
+    /// The gun's own air speed at the outlet, U₀, m/s.
+    pub fn air_speed(self) -> f64 {
+        self.table().air.0
+    }
+
     /// True for a gun whose air atomises the paint (air, HVLP): its droplet size follows the
     /// air's speed.
     pub fn air_atomised(self) -> bool {

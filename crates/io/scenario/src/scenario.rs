@@ -193,35 +193,7 @@ impl Scenario {
         let root = Section::root(table);
         let process = read::process(&root.table_or_empty("process")?, Preset::defaults)?;
         let simulation = read::simulation(&root.table_or_empty("simulation")?, process.drag)?;
-        let gun = process.gun;
-        let air = read::air(&root.table_or_empty("air")?, &gun.map_or_else(AirDefaults::still, |g| g.air()))?;
-        let emitter_defaults = process.preset.emitter_defaults();
-        let air_speed = match &air {
-            AirParams::Jet(j) => j.speed,
-            AirParams::None => 0.0,
-        };
-        let emitter = read::emitter(
-            &root.table_or_empty("emitter")?,
-            &gun.map_or(emitter_defaults.clone(), |g| g.emitter(emitter_defaults, air_speed)),
-            simulation.duration,
-        )?;
-        if matches!(air, AirParams::Jet(_)) {
-            if emitter.droplets == DropletsLaw::None {
-                return crate::reader::bad(
-                    "air.model",
-                    "needs droplet sizes: set emitter.droplets (\"fixed\", \"log_normal\" or \"rosin_rammler\")",
-                );
-            }
-            if simulation.integrator == spraysim_engine::motion::Integrator::Exact {
-                return crate::reader::bad(
-                    "air.model",
-                    "has no closed form with simulation.integrator = \"exact\": use \"euler\" or \"semi_implicit_euler\"",
-                );
-            }
-            if process.drag > 0.0 {
-                return crate::reader::bad("air.model", "replaces process.drag: set it to 0");
-            }
-        }
+        let (emitter, air) = spray(&root, &process, &simulation)?;
         let mut names = Vec::new();
         let targets = (root.tables("target")?.iter())
             .map(|t| read::target(t, &mut names, &process.impact, &source.base))
@@ -541,6 +513,62 @@ fn cause(source: &Source, inv: &Invalid) -> usize {
     (pool.iter().copied())
         .max_by_key(|&i| (overrides::shared_parts(&source.overrides[i].0, &inv.key), i))
         .unwrap_or(0)
+}
+
+/// Reads `[emitter]` and `[air]` over the defaults of the process and its gun, and refuses air
+/// the run cannot use: an air-atomised gun's air too slow to atomise, air without droplet
+/// sizes, with the exact integrator or with `process.drag`.
+fn spray(
+    root: &Section<'_>,
+    process: &ProcessParams,
+    simulation: &SimulationParams,
+) -> Read<(EmitterParams, AirParams)> {
+    let gun = process.gun;
+    let air = read::air(&root.table_or_empty("air")?, &gun.map_or_else(AirDefaults::still, |g| g.air()))?;
+    let emitter_defaults = process.preset.emitter_defaults();
+    let air_speed = match &air {
+        AirParams::Jet(j) => j.speed,
+        AirParams::None => 0.0,
+    };
+    let sized = root.table_or_empty("emitter")?.has("sauter_mean");
+    if let Some(g) =
+        gun.filter(|g| g.air_atomised() && !sized && air_speed > 0.0 && air_speed < 0.25 * g.air_speed())
+    {
+        return crate::reader::bad(
+            "air.speed",
+            format!(
+                "is too slow to atomise the paint: the {} gun's droplets grow as 1/U₀ from its {} m/s, and below \
+             a quarter of that ({} m/s) the atomisation law no longer holds; set emitter.sauter_mean \
+             with it, or switch the air off with air.model = \"none\"",
+                g.name(),
+                g.air_speed(),
+                0.25 * g.air_speed()
+            ),
+        );
+    }
+    let emitter = read::emitter(
+        &root.table_or_empty("emitter")?,
+        &gun.map_or(emitter_defaults.clone(), |g| g.emitter(emitter_defaults, air_speed)),
+        simulation.duration,
+    )?;
+    if matches!(air, AirParams::Jet(_)) {
+        if emitter.droplets == DropletsLaw::None {
+            return crate::reader::bad(
+                "air.model",
+                "needs droplet sizes: set emitter.droplets (\"fixed\", \"log_normal\" or \"rosin_rammler\")",
+            );
+        }
+        if simulation.integrator == spraysim_engine::motion::Integrator::Exact {
+            return crate::reader::bad(
+                "air.model",
+                "has no closed form with simulation.integrator = \"exact\": use \"euler\" or \"semi_implicit_euler\"",
+            );
+        }
+        if process.drag > 0.0 {
+            return crate::reader::bad("air.model", "replaces process.drag: set it to 0");
+        }
+    }
+    Ok((emitter, air))
 }
 
 /// Largest k·|v|·Δt accepted with drag: beyond 1 an explicit step reverses the velocity.

@@ -64,12 +64,13 @@ fn impossible_painting_settings_are_refused_with_their_key_and_line() {
     refuse(
         &painting("gun = \"air\"\n[emitter]\ndroplets = \"rosin_rammler\"\nrr_spread = 1.0"),
         "emitter.rr_spread",
-        "exceed 1",
+        "at least 1.2",
     );
     refuse(&painting("gun = \"air\"\n[emitter]\ngsd = 1.0"), "emitter.gsd", "exceed 1");
     refuse(&painting("gun = \"air\"\n[emitter]\nsauter_mean = -1e-5"), "emitter.sauter_mean", "");
     refuse(&painting("gun = \"air\"\n[air]\nspread = [0.2, 0.0]"), "air.spread", "positive");
     refuse(&painting("gun = \"air\"\n[air]\nviscosity = nan"), "air.viscosity", "");
+    refuse(&painting("gun = \"hvlp\"\n[air]\nspeed = 10.0"), "air.speed", "too slow to atomise");
     let exact = scenario(&painting("gun = \"air\""), "air gun").with("simulation.integrator", "exact");
     let (k, m) = refusal(exact, "the exact integrator with air");
     assert_eq!(k, "air.model");

@@ -118,7 +118,7 @@ pub(crate) fn read(s: &Section<'_>, d: &AirDefaults) -> Read<AirParams> {
                 viscosity: s.number("viscosity", Some(j.viscosity), Check::Positive(1.0), "Pa·s")?,
                 density: s.number("density", Some(j.density), Check::Positive(100.0), "kg/m³")?,
                 drag: s.choice("drag", Some(j.drag))?,
-                booth_speed: s.number("booth_speed", Some(j.booth_speed), Check::Within(0.0, 10.0), "m/s")?,
+                booth_speed: s.number("booth_speed", Some(j.booth_speed), Check::Within(0.0, 2.0), "m/s")?,
             })
         }
     };

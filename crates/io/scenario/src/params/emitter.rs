@@ -261,7 +261,7 @@ fn read_droplets(s: &Section<'_>, d: &EmitterDefaults) -> Read<DropletsLaw> {
         }
         DropletsKind::LogNormal => {
             let sauter_mean = diameter("sauter_mean", d.sauter_mean)?;
-            let gsd = s.number("gsd", Some(d.gsd), Check::Within(1.0, 10.0), "")?;
+            let gsd = s.number("gsd", Some(d.gsd), Check::Within(1.0, 3.0), "")?;
             if gsd <= 1.0 {
                 return bad(&s.key("gsd"), "must exceed 1 (1 is a single size: use droplets = \"fixed\")");
             }
@@ -270,8 +270,11 @@ fn read_droplets(s: &Section<'_>, d: &EmitterDefaults) -> Read<DropletsLaw> {
         DropletsKind::RosinRammler => {
             let sauter_mean = diameter("sauter_mean", d.sauter_mean)?;
             let rr_spread = s.number("rr_spread", Some(d.rr_spread), Check::Within(1.0, 100.0), "")?;
-            if rr_spread <= 1.0 {
-                return bad(&s.key("rr_spread"), "must exceed 1: at n ≤ 1 the Sauter mean diameter is 0");
+            if rr_spread < 1.2 {
+                return bad(
+                    &s.key("rr_spread"),
+                    "must be at least 1.2 (at n ≤ 1 the Sauter mean diameter is 0, and near 1 the largest droplets are metres across)",
+                );
             }
             DropletsLaw::RosinRammler { sauter_mean, rr_spread }
         }
