@@ -379,29 +379,43 @@ impl Kernel<'_> {
                 k
             }
             Integrator::Euler | Integrator::SemiImplicitEuler => {
+                if let (Some(d), Some(_)) = (drop, &self.air) {
+                    return self.coast_in_air(p, k, s, d, books);
+                }
                 let (mut x, mut v) = (p.anchor, p.anchor_velocity());
-                let mut done = 0;
-                while done < k {
-                    let (x1, v1) = match (drop, &self.air) {
-                        (Some(d), Some(air)) => {
-                            let u = self.air_at(s + done, x);
-                            if self.carried_off(p, s + done, d, (x, v, u), books) {
-                                break;
-                            }
-                            // As a full step moves it: through the jet in its substeps.
-                            air.flow.step(self.jet(s + done), d, x, v, self.motion.gravity, self.dt)
-                        }
-                        _ => self.motion.advance(x, v, self.dt),
-                    };
+                for _ in 0..k {
+                    let (x1, v1) = self.motion.advance(x, v, self.dt);
                     x = x1;
                     v = v1.as_vec3().as_dvec3();
-                    done += 1;
                 }
                 p.anchor = x;
                 p.velocity = v.as_vec3();
-                done
+                k
             }
         }
+    }
+
+    /// [`Kernel::coast`] for a droplet `d` in the gun's air: each step as a full step moves it,
+    /// through the jet in its substeps; returns the steps taken, fewer where the air carries
+    /// it off first.
+    #[inline(never)]
+    fn coast_in_air(&self, p: &mut Particle, k: u64, s: u64, d: &Droplet, books: &mut Books) -> u64 {
+        let Some(air) = &self.air else { return 0 };
+        let (mut x, mut v) = (p.anchor, p.anchor_velocity());
+        let mut done = 0;
+        while done < k {
+            let u = self.air_at(s + done, x);
+            if self.carried_off(p, s + done, d, (x, v, u), books) {
+                break;
+            }
+            let (x1, v1) = air.flow.step(self.jet(s + done), d, x, v, self.motion.gravity, self.dt);
+            x = x1;
+            v = v1.as_vec3().as_dvec3();
+            done += 1;
+        }
+        p.anchor = x;
+        p.velocity = v.as_vec3();
+        done
     }
 
     /// The droplet `p` is, if it feels the gun's air: a particle from the nozzle, with the
