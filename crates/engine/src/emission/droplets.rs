@@ -163,7 +163,7 @@ mod tests {
     use super::*;
 
     /// The table reproduces the distribution's Sauter mean (the midpoint rule over 256 strata,
-    /// with the outer 0.1 % of each tail left out) and its volume median, and the blocks use
+    /// with the outer 0.2 % of each tail left out) and its volume median, and the blocks use
     /// every entry once.
     #[test]
     fn tables_keep_the_sauter_mean_and_use_every_size_once_per_block() {
