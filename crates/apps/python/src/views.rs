@@ -176,10 +176,10 @@ pub fn erosion<'py>(
     sim: &Simulation,
     target: &Bound<'py, PyAny>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
-    let t = &sim.targets()[target_index(sim, target)?];
-    let Some(e) = &t.erosion else { return Ok(None) };
-    let depth: Vec<f64> = (0..e.coating.len()).map(|c| e.eroded(c)).collect();
-    map_copy(py, t, &depth).map(Some)
+    optional_map(py, sim, target, |t| {
+        let e = t.erosion.as_ref()?;
+        Some((0..e.coating.len()).map(|c| e.eroded(c)).collect())
+    })
 }
 
 /// The coating left per cell of a target, m, a copy (NaN in openings), or None when the
@@ -189,9 +189,7 @@ pub fn coating<'py>(
     sim: &Simulation,
     target: &Bound<'py, PyAny>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
-    let t = &sim.targets()[target_index(sim, target)?];
-    let Some(e) = &t.erosion else { return Ok(None) };
-    map_copy(py, t, &e.coating).map(Some)
+    optional_map(py, sim, target, |t| Some(t.erosion.as_ref()?.coating.clone()))
 }
 
 /// The dry film per cell of a target, m: the wet thickness times the material's volume
@@ -201,10 +199,23 @@ pub fn dry_thickness<'py>(
     sim: &Simulation,
     target: &Bound<'py, PyAny>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let solids = sim.config().material.volume_solids;
+    optional_map(py, sim, target, |t| {
+        let solids = solids?;
+        Some(t.surface.thickness().iter().map(|x| x * solids).collect())
+    })
+}
+
+/// The per-cell values `values` gives for a target (name or index) as a new array in its map
+/// shape, NaN in openings, or None where the target has no such map.
+fn optional_map<'py>(
+    py: Python<'py>,
+    sim: &Simulation,
+    target: &Bound<'py, PyAny>,
+    values: impl FnOnce(&Target) -> Option<Vec<f64>>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
     let t = &sim.targets()[target_index(sim, target)?];
-    let Some(solids) = sim.config().material.volume_solids else { return Ok(None) };
-    let dry: Vec<f64> = t.surface.thickness().iter().map(|x| x * solids).collect();
-    map_copy(py, t, &dry).map(Some)
+    values(t).map(|v| map_copy(py, t, &v)).transpose()
 }
 
 /// Per-cell `values` of target `t` as a new array in the target's map shape, NaN in openings.

@@ -270,7 +270,20 @@ impl AirFlow {
         h: f64,
     ) -> (DVec3, DVec3) {
         let Some(frame) = frame else { return self.advance(droplet, x, v, DVec3::ZERO, g, h) };
-        let u = self.velocity(frame, x);
+        self.step_in(frame, droplet, (x, v, self.velocity(frame, x)), g, h)
+    }
+
+    /// [`AirFlow::step`] through the jet `frame` from `x` (m) and `v` (m/s) where the air moves
+    /// at `u` (m/s): for a caller that has the air at the step's start already.
+    #[inline]
+    pub fn step_in(
+        &self,
+        frame: &JetFrame,
+        droplet: &Droplet,
+        (x, v, u): (DVec3, DVec3, DVec3),
+        g: DVec3,
+        h: f64,
+    ) -> (DVec3, DVec3) {
         let tau = self.relaxation_time(droplet, v, u);
         let (x1, v1) = self.advance_from(droplet, (x, v, u), g, h, tau);
         let n = self.substeps(frame, (x, v), x1, h, tau);

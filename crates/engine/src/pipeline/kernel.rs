@@ -408,7 +408,12 @@ impl Kernel<'_> {
             if self.carried_off(p, s + done, d, (x, v, u), books) {
                 break;
             }
-            let (x1, v1) = air.flow.step(self.jet(s + done), d, x, v, self.motion.gravity, self.dt);
+            // The air at the step's start, found for the check above, starts the step too.
+            let g = self.motion.gravity;
+            let (x1, v1) = match self.jet(s + done) {
+                Some(frame) => air.flow.step_in(frame, d, (x, v, u), g, self.dt),
+                None => air.flow.step(None, d, x, v, g, self.dt),
+            };
             x = x1;
             v = v1.as_vec3().as_dvec3();
             done += 1;
