@@ -2,6 +2,7 @@
 //! doc comments here are the `--help` texts.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use spraysim::scenario::Backend;
 use std::path::PathBuf;
 
 /// Particle simulation of construction spraying: shotcrete, spray painting, abrasive blasting.
@@ -74,6 +75,10 @@ pub struct RunArgs {
     /// exit with an error after writing the outputs when the run shows one.
     #[arg(long)]
     pub strict: bool,
+    /// What flies the particles: `cpu`, `gpu` (a build with the `gpu` feature) or `auto` (the
+    /// GPU where it can, else the CPU); overrides `[simulation] backend`.
+    #[arg(long, value_parser = Backend::parse)]
+    pub backend: Option<Backend>,
 }
 
 /// `spraysim resume`'s arguments.
@@ -283,6 +288,10 @@ pub struct BenchArgs {
     /// to the recorded figure, and saying why, where it cannot be built or run).
     #[arg(long)]
     pub recorded_baseline: bool,
+    /// `gpu`: time the GPU backend's rows (a build with the `gpu` feature) instead of the CPU's
+    /// matrix, with the CPU's reference row beside them.
+    #[arg(long, value_parser = Backend::parse, default_value = "cpu")]
+    pub backend: Backend,
 }
 
 /// `10s`, `500ms` or `2.5` (seconds) as seconds, above 0.

@@ -1,7 +1,7 @@
 //! `spraysim`: command-line front end of the spraysim library.
 //!
 //! [`cli`] declares what the command line accepts; [`commands`] carries out each subcommand,
-//! one file each; [`summary`] prints a run's tables, [`recorder`] draws the 3D views a run asks
+//! one file each; [`backend`] picks what flies a run's particles (CPU or GPU); [`summary`] prints a run's tables, [`recorder`] draws the 3D views a run asks
 //! for, and [`control`] holds the run's Ctrl-C handling and the fault tests' pause points.
 
 use anyhow::Result;
@@ -18,6 +18,7 @@ macro_rules! say {
     }};
 }
 
+mod backend;
 mod cli;
 mod commands;
 mod control;

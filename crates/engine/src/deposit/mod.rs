@@ -449,6 +449,16 @@ surfaces! {
 }
 
 impl Surface {
+    /// The cells whose thickness changed since the last call, with the layer's identity (see
+    /// [`HeightField::take_revised`]); `None` for a mesh, which has no heightfield.
+    pub fn take_revised(&mut self) -> Option<(u64, Vec<u32>)> {
+        match self {
+            Surface::Rectangle(s) => Some(s.field.take_revised()),
+            Surface::Cylinder(s) => Some(s.field.take_revised()),
+            Surface::Mesh(_) => None,
+        }
+    }
+
     /// Writes the deposit's state (what a run changes), for a checkpoint.
     pub(crate) fn save_state(&self, e: &mut crate::checkpoint::Enc) {
         match self {

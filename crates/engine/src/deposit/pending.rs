@@ -104,6 +104,16 @@ impl Pending {
         self.mark(cell, touched);
     }
 
+    /// Counts `n` impacts on `cell` without wear (as a flight stage that gathered them books
+    /// them).
+    #[inline]
+    pub fn impacts(&self, cell: u32, n: u32, touched: &mut Vec<u32>) {
+        if n > 0 {
+            self.hits[cell as usize].fetch_add(n, Ordering::Relaxed);
+            self.mark(cell, touched);
+        }
+    }
+
     /// Takes what `cell` gathered, leaving its counters at zero.
     pub fn take(&self, cell: u32) -> Gathered {
         let c = cell as usize;

@@ -17,6 +17,7 @@
 
 use super::emit::{self, Births};
 use super::kernel::{Air, Books, Capture, Kernel};
+use super::stage::{self, FlightStage};
 use super::{Plan, State, Workers};
 use crate::collision::Scene;
 use crate::config::SimulationConfig;
@@ -43,10 +44,13 @@ pub(super) struct How<'a> {
     pub capture: Capture,
     /// Whether particles coast (see `Simulation::set_coasting`).
     pub coasting: bool,
+    /// Another backend's flight stage, if one flies the particles (see [`super::stage`]).
+    pub stage: Option<&'a dyn FlightStage>,
 }
 
 /// Runs steps `state.step .. state.step + steps`, all within one epoch, and settles the epoch if
-/// it ends with them.
+/// it ends with them. Returns the error of a flight stage that declined the call (which then
+/// flew on the engine's own flight).
 pub(super) fn run(
     config: &SimulationConfig,
     plan: &Plan,
@@ -54,11 +58,18 @@ pub(super) fn run(
     how: &How<'_>,
     steps: u64,
     events: &mut dyn EventHandler,
-) {
+) -> Option<String> {
     let (from, to) = (state.step, state.step + steps);
     let (births, emissions) = emit::schedule(config, state, from, to);
     let jets = emit::jets(config, state, from, to);
-    let (books, born, retired) = fly(config, plan, state, how, (from, to), &births, &jets);
+    // Only the engine's own flight gathers impacts as events.
+    let elsewhere = how.stage.filter(|_| how.capture == Capture::Nothing);
+    let (flown, declined) =
+        match elsewhere.map(|s| stage::fly(s, config, plan, state, how.workers, (from, to), &births)) {
+            Some(Ok(flown)) => (flown, None),
+            other => (fly(config, plan, state, how, (from, to), &births, &jets), other.and_then(Result::err)),
+        };
+    let (books, born, retired) = flown;
     state.retired += retired;
     let mut impacts = book(state, books);
     for p in born.into_iter().flatten() {
@@ -68,6 +79,7 @@ pub(super) fn run(
     let ends = to % plan.epoch == 0 || to == plan.total_steps;
     dispatch(config, plan, state, (from, to), ends, &emissions, &impacts, events);
     state.step = to;
+    declined
 }
 
 /// The parallel region: flies every particle of the swarm and every newborn of `births`

@@ -23,6 +23,9 @@ mod kernel;
 mod persist;
 mod settle;
 mod setup;
+mod stage;
+
+pub use stage::{CellBook, FlightJob, FlightReport, FlightStage};
 
 use crate::collision::Scene;
 use crate::config::{ConfigError, MAX_COORD, SimulationConfig};
@@ -176,6 +179,11 @@ pub struct Simulation {
     workers: Workers,
     /// See [`Simulation::set_coasting`].
     coasting: bool,
+    /// Another backend's flight stage (see [`Simulation::set_flight_stage`]).
+    stage: Option<Arc<dyn FlightStage>>,
+    /// The first error of the flight stage, which declined a call (see
+    /// [`Simulation::flight_stage_error`]).
+    stage_error: Option<String>,
 }
 
 impl Simulation {
@@ -213,6 +221,7 @@ impl Simulation {
         let scene = std::mem::take(&mut self.state.scene);
         let fresh = setup::build(Arc::new(config), Some(scene));
         (self.config, self.plan, self.state) = (fresh.config, fresh.plan, fresh.state);
+        self.stage_error = None;
         Ok(())
     }
 
@@ -385,8 +394,16 @@ impl Simulation {
         let mut left = steps;
         while left > 0 {
             let k = left.min(self.steps_to_epoch_end());
-            let how = epoch::How { workers: &self.workers, capture, coasting: self.coasting };
-            epoch::run(&self.config, &self.plan, &mut self.state, &how, k, &mut both);
+            let how = epoch::How {
+                workers: &self.workers,
+                capture,
+                coasting: self.coasting,
+                stage: self.stage.as_deref(),
+            };
+            let declined = epoch::run(&self.config, &self.plan, &mut self.state, &how, k, &mut both);
+            if self.stage_error.is_none() {
+                self.stage_error = declined;
+            }
             left -= k;
         }
         self.state.impact_log = log;
@@ -414,6 +431,25 @@ impl Simulation {
     /// Steps per layer epoch.
     pub fn epoch_steps(&self) -> u64 {
         self.plan.epoch
+    }
+
+    /// Flies the particles on another backend's flight stage (`None`: the engine's own), such
+    /// as the GPU's (`spraysim-gpu`); kept by [`Simulation::restart`]. Calls whose impacts are
+    /// gathered as events fly on the engine's own flight, as does a call the stage declines
+    /// (see [`Simulation::flight_stage_error`]).
+    pub fn set_flight_stage(&mut self, stage: Option<Arc<dyn FlightStage>>) {
+        self.stage = stage;
+    }
+
+    /// The flight stage set by [`Simulation::set_flight_stage`], if any.
+    pub fn flight_stage(&self) -> Option<&Arc<dyn FlightStage>> {
+        self.stage.as_ref()
+    }
+
+    /// The first error with which the flight stage declined a call, which then flew on the
+    /// engine's own flight; `None` if it flew every call given to it.
+    pub fn flight_stage_error(&self) -> Option<&str> {
+        self.stage_error.as_deref()
     }
 
     /// Lets particles coast through the steps in which they certainly meet nothing (on by

@@ -84,7 +84,15 @@ pub(super) fn build(config: Arc<SimulationConfig>, reuse: Option<Scene>) -> Simu
         touched: vec![Vec::new(); c.targets.len()],
         settled: 0,
     };
-    Simulation { config, plan, state, workers: Workers::Global, coasting: true }
+    Simulation {
+        config,
+        plan,
+        state,
+        workers: Workers::Global,
+        coasting: true,
+        stage: None,
+        stage_error: None,
+    }
 }
 
 /// A target's record at time 0: its surface bare (or as configured), nothing struck yet.

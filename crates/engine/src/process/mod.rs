@@ -19,4 +19,4 @@ pub mod rebound;
 pub use erosion::ErosionLaw;
 pub use impact::{ImpactModel, ImpactSite, Outcome};
 pub use layer::{LayerContext, LayerStage};
-pub use rebound::ReboundLaw;
+pub use rebound::{ReboundForm, ReboundLaw};

@@ -11,11 +11,14 @@
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::RectangleSurface;
 use spraysim_engine::motion::Integrator;
+use spraysim_engine::pipeline::FlightStage;
 use spraysim_scenario::scenes::{NOZZLE_AT_WALL, bar, floor, integrator_word, wall};
 use spraysim_scenario::{Scenario, ScenarioError};
+use std::sync::Arc;
 use std::time::Instant;
 
 pub mod baseline;
+pub mod stage;
 
 pub use spraysim_engine::SetupError;
 
@@ -278,8 +281,18 @@ impl Measurement {
 
 /// Runs `scenario` to the end on `threads` threads (0: all cores) and times it.
 pub fn measure(scenario: &Scenario, threads: usize) -> Result<Measurement, BenchError> {
+    measure_on(scenario, threads, None)
+}
+
+/// [`measure`], the particles flown on `stage` (`None`: the engine's own flight).
+pub fn measure_on(
+    scenario: &Scenario,
+    threads: usize,
+    stage: Option<&Arc<dyn FlightStage>>,
+) -> Result<Measurement, BenchError> {
     let mut sim = scenario.build()?;
     sim.set_threads(threads)?;
+    sim.set_flight_stage(stage.cloned());
     let start = Instant::now();
     sim.run(|_| {});
     let wall = start.elapsed().as_secs_f64();
@@ -303,10 +316,21 @@ pub fn measure_median(
     threads: usize,
     repeats: usize,
 ) -> Result<Measurement, BenchError> {
+    measure_median_on(scenario, threads, repeats, None)
+}
+
+/// [`measure_median`], the particles flown on `stage` (`None`: the engine's own flight).
+pub fn measure_median_on(
+    scenario: &Scenario,
+    threads: usize,
+    repeats: usize,
+    stage: Option<&Arc<dyn FlightStage>>,
+) -> Result<Measurement, BenchError> {
     let s = scenario.simulation();
     let warm = scenario.with("simulation.duration", (0.1 * s.duration).max(s.dt))?;
-    measure(&warm, threads)?;
-    let runs = (0..repeats.max(1)).map(|_| measure(scenario, threads)).collect::<Result<Vec<_>, _>>()?;
+    measure_on(&warm, threads, stage)?;
+    let runs =
+        (0..repeats.max(1)).map(|_| measure_on(scenario, threads, stage)).collect::<Result<Vec<_>, _>>()?;
     median_by(runs, |r| r.wall).ok_or_else(|| BenchError::Settings("no timed run".into()))
 }
 
@@ -363,8 +387,25 @@ pub struct MatrixSettings {
 }
 
 impl MatrixSettings {
+    /// Refuses a rate or duration that is not a positive number, before anything runs.
+    pub(crate) fn check(&self) -> Result<(), BenchError> {
+        if !(self.spawn_rate.is_finite() && self.spawn_rate > 0.0) {
+            return Err(BenchError::Settings(format!(
+                "--spawn-rate must be a positive number of particles/s, got {}",
+                self.spawn_rate
+            )));
+        }
+        if !(self.duration.is_finite() && self.duration > 0.0) {
+            return Err(BenchError::Settings(format!(
+                "--duration must be a positive number of seconds, got {}",
+                self.duration
+            )));
+        }
+        Ok(())
+    }
+
     /// The thread counts asked for, 0 replaced by this machine's cores.
-    fn thread_counts(&self) -> Vec<usize> {
+    pub(crate) fn thread_counts(&self) -> Vec<usize> {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         let mut counts: Vec<usize> = self.threads.iter().map(|&t| if t == 0 { cores } else { t }).collect();
         if counts.is_empty() {
@@ -405,7 +446,7 @@ fn variants(m: &MatrixSettings, all: usize) -> Vec<Row> {
 /// The paper-equivalent implementation's particles per second to fate on the throughput runs'
 /// rate and duration: timed now (median of `m.repeats` runs) if asked and it can be built and
 /// run, else the recorded figure. Writes a line to `out` saying which, and why.
-fn paper_baseline(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<f64, BenchError> {
+pub(crate) fn paper_baseline(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<f64, BenchError> {
     let recorded = PAPER_BASELINE_PARTICLES_PER_SECOND;
     let fallback = format!(
         "the recorded {recorded:.3e} particles/s to fate (10⁶ particles/s for 0.5 s, on another day)"
@@ -440,19 +481,7 @@ fn paper_baseline(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<f
 /// then, with several thread counts, the scaling table, then the 60 s raster, the short
 /// variants, the cohesion analysis and the storage per particle.
 pub fn run_matrix(m: &MatrixSettings, out: &mut impl std::io::Write) -> Result<(), BenchError> {
-    // Refused before anything runs or prints.
-    if !(m.spawn_rate.is_finite() && m.spawn_rate > 0.0) {
-        return Err(BenchError::Settings(format!(
-            "--spawn-rate must be a positive number of particles/s, got {}",
-            m.spawn_rate
-        )));
-    }
-    if !(m.duration.is_finite() && m.duration > 0.0) {
-        return Err(BenchError::Settings(format!(
-            "--duration must be a positive number of seconds, got {}",
-            m.duration
-        )));
-    }
+    m.check()?;
     let counts = m.thread_counts();
     for &t in &counts {
         spraysim_engine::check_threads(t)?;

@@ -1,10 +1,12 @@
 //! `spraysim bench`: times the reference scene and its scaling variants as a Markdown table,
-//! then the 3D view's frame time where this build draws 3D views.
+//! then the 3D view's frame time where this build draws 3D views; with `--backend gpu`, the GPU
+//! backend's rows instead.
 
 use crate::cli::BenchArgs;
 use anyhow::Result;
+use spraysim::scenario::Backend;
 
-/// Runs the bench's matrix and prints its table, then the render line.
+/// Runs the bench's matrix and prints its table, then the render line; or the GPU's rows.
 pub fn bench(args: &BenchArgs) -> Result<()> {
     let settings = spraysim_bench::MatrixSettings {
         spawn_rate: args.spawn_rate,
@@ -14,8 +16,30 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         variants: args.variants as usize,
         measure_baseline: !args.recorded_baseline,
     };
+    if args.backend != Backend::Cpu {
+        match gpu_rows(&settings) {
+            Ok(()) => return Ok(()),
+            Err(e) if args.backend == Backend::Auto => eprintln!("backend \"auto\": timing the CPU: {e:#}"),
+            Err(e) => return Err(e),
+        }
+    }
     spraysim_bench::run_matrix(&settings, &mut std::io::stdout().lock())?;
     render_line()
+}
+
+/// The GPU backend's rows, and its storage per particle slot.
+#[cfg(feature = "gpu")]
+fn gpu_rows(settings: &spraysim_bench::MatrixSettings) -> Result<()> {
+    let gpu = std::sync::Arc::new(spraysim_gpu::GpuFlight::new(&spraysim_gpu::GpuOptions::default())?);
+    spraysim_bench::stage::run_stage_rows(gpu, settings, &mut std::io::stdout().lock())?;
+    say!("GPU particle storage: {} bytes per particle slot", spraysim_gpu::BYTES_PER_SLOT);
+    Ok(())
+}
+
+/// A build without the GPU backend has no GPU rows.
+#[cfg(not(feature = "gpu"))]
+fn gpu_rows(_: &spraysim_bench::MatrixSettings) -> Result<()> {
+    anyhow::bail!("this build has no GPU backend: {}", crate::backend::BUILD_GPU)
 }
 
 /// The render line of a build without 3D views: says how to get one.

@@ -19,6 +19,11 @@ use std::time::Instant;
 /// Runs the scenario `args` name (the default scene without one) and writes its outputs.
 pub fn run(args: &RunArgs) -> Result<()> {
     let scenario = load(args.scenario.as_deref(), &args.set)?;
+    // The resolved scenario records the backend that ran it.
+    let scenario = match args.backend {
+        Some(b) => scenario.with("simulation.backend", b.name())?,
+        None => scenario,
+    };
     // The resolved scenario written with the outputs names the directory they went to (in
     // TOML, which holds UTF-8 only).
     let scenario = &match &args.output {
@@ -47,12 +52,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let recorder = recorder::recorder(scenario)?;
     let mut sim = scenario.build()?;
     sim.set_threads(args.threads)?;
+    let backend = crate::backend::attach(&mut sim, scenario)?;
     let every = args.checkpoint_every.map(|t| (t / scenario.simulation().dt).round().max(1.0) as u64);
     let dir = lock(Path::new(&scenario.output().directory))?;
     // A new run replaces the directory's run: an earlier run's checkpoint no longer applies.
     checkpoint::remove_checkpoint(&dir);
     dir.record_run(&scenario.to_toml())?;
-    execute(scenario, sim, &dir, (every, recorder), args.quiet, args.strict)
+    execute(scenario, sim, &dir, (every, recorder), (args.quiet, args.strict), &backend)
 }
 
 /// Continues the run whose checkpoint is in `args.dir`.
@@ -76,23 +82,25 @@ pub fn resume(args: &ResumeArgs) -> Result<()> {
     // Views due before the checkpoint's time show states this process never had.
     recorder.skip_before(sim.time());
     sim.set_threads(args.threads)?;
+    let backend = crate::backend::attach(&mut sim, &scenario)?;
     if !quiet {
         say!("resuming at t = {:.3} s of {} s", sim.time(), scenario.simulation().duration);
     }
-    execute(&scenario, sim, &dir, ((ck.every_steps > 0).then_some(ck.every_steps), recorder), quiet, false)
+    let every = (ck.every_steps > 0).then_some(ck.every_steps);
+    execute(&scenario, sim, &dir, (every, recorder), (quiet, false), &backend)
 }
 
 /// Steps `sim` to its end or to an interrupt, with checkpoints every `every` steps and the 3D
 /// views `recorder` draws, and writes its outputs, views included, into `dir` as one set; its
 /// sanity warnings go into the summary (to stderr when `quiet`), and with `strict` make an
-/// error once the outputs are written.
+/// error once the outputs are written. `backend` says what flew the particles.
 fn execute(
     scenario: &Scenario,
     mut sim: Simulation,
     dir: &OutputDir,
     (every, mut recorder): (Option<u64>, Recorder),
-    quiet: bool,
-    strict: bool,
+    (quiet, strict): (bool, bool),
+    backend: &str,
 ) -> Result<()> {
     control::watch_interrupts()?;
     let save = |sim: &Simulation, k: u64| {
@@ -148,10 +156,14 @@ fn execute(
     }
     let metrics = sim.metrics();
     let warnings = sanity::after_run(scenario, &metrics);
+    if let Some(e) = sim.flight_stage_error() {
+        eprintln!("warning: the GPU declined some steps, which ran on the CPU: {e}");
+    }
     if quiet {
         print_warnings(&warnings);
     } else {
         crate::summary::print(&metrics, scenario, &warnings, wall)?;
+        say!("particles flown on: {backend}");
         say!("wrote {} files to {}", files.len(), dir.path().display());
     }
     if !completed {

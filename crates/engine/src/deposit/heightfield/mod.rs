@@ -50,6 +50,9 @@ pub struct HeightField {
     hole: Vec<bool>,
     /// The columns are periodic (a full turn of a shell).
     wrap: bool,
+    /// The cells changed since a copy of the layer elsewhere (the GPU's) was last brought up to
+    /// date.
+    revised: Revised,
 }
 
 impl HeightField {
@@ -75,6 +78,7 @@ impl HeightField {
             changed: ChangedCells::new(cols * rows),
             hole: Vec::new(),
             wrap: false,
+            revised: Revised::new(cols * rows),
         }
     }
 
@@ -95,6 +99,8 @@ impl HeightField {
         self.max_thickness = d.f64()?;
         self.bounds.load_state(d)?;
         self.changed.0 = d.list_of(self.changed.0.len(), "a heightfield's changes", 8, Dec::u64)?;
+        // A copy of the layer elsewhere no longer holds this one.
+        self.revised = Revised::new(n);
         // Made afresh from the thicknesses, exactly as they were kept.
         self.refresh_sums((0, self.cols - 1), (0, self.rows - 1));
         Ok(())
@@ -153,6 +159,17 @@ impl HeightField {
         (self.width / self.cols as f64, self.height / self.rows as f64)
     }
 
+    /// Cell offsets `(col, row)` of the deposit footprint around a struck cell, the struck cell
+    /// `(0, 0)` among them (see [`HeightField::footprint`]).
+    pub fn splat_offsets(&self) -> &[(isize, isize)] {
+        &self.splat
+    }
+
+    /// True if the columns are periodic (a full turn of a shell).
+    pub fn wraps(&self) -> bool {
+        self.wrap
+    }
+
     /// Removes up to `volume` (m³) from `cell`; returns the volume removed.
     pub fn remove(&mut self, cell: u32, volume: f64) -> f64 {
         let area = self.cell_area();
@@ -193,10 +210,19 @@ impl HeightField {
         self.bounds.raise(c % self.cols, c / self.cols, t);
     }
 
-    /// Marks cell `c` changed, for the layer stages.
+    /// Marks cell `c` changed, for the layer stages and for copies of the layer.
     #[inline]
     fn mark(&mut self, c: usize) {
         self.changed.mark(c);
+        self.revised.cells.mark(c);
+    }
+
+    /// The cells whose thickness changed since the last call, ascending, with the layer's
+    /// identity: a copy of the layer elsewhere (the GPU's) that holds this identity is brought
+    /// up to date by these cells; one that holds another must copy the whole layer. A new field,
+    /// a clone and a restored one each have an identity of their own.
+    pub fn take_revised(&mut self) -> (u64, Vec<u32>) {
+        (self.revised.identity, self.revised.cells.take())
     }
 
     /// The cells whose thickness changed since the last call, ascending.
@@ -295,6 +321,37 @@ impl ChangedCells {
             }
         }
         out
+    }
+}
+
+/// The cells changed since a copy of the layer was last brought up to date, and the identity
+/// of the layer they are changes of (see [`HeightField::take_revised`]). Not part of the state:
+/// it prints as nothing, and a clone takes a new identity.
+struct Revised {
+    identity: u64,
+    cells: ChangedCells,
+}
+
+impl Revised {
+    /// No cell changed, under a new identity.
+    fn new(cells: usize) -> Revised {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        Revised {
+            identity: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+            cells: ChangedCells::new(cells),
+        }
+    }
+}
+
+impl Clone for Revised {
+    fn clone(&self) -> Revised {
+        Revised::new(64 * self.cells.0.len())
+    }
+}
+
+impl std::fmt::Debug for Revised {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("_")
     }
 }
 

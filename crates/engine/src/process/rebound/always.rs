@@ -11,4 +11,8 @@ impl ReboundLaw for AlwaysRebound {
     fn probability(&self, _impact: &ImpactSite) -> f64 {
         1.0
     }
+
+    fn form(&self) -> super::ReboundForm<'_> {
+        super::ReboundForm::Always
+    }
 }

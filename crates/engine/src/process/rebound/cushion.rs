@@ -71,6 +71,10 @@ impl ReboundLaw for CushionCapture {
         }
         (self.ricochet.at(impact.theta) / self.aggregate_fraction).clamp(0.0, 1.0)
     }
+
+    fn form(&self) -> super::ReboundForm<'_> {
+        super::ReboundForm::Cushion(self)
+    }
 }
 
 #[cfg(test)]

@@ -11,4 +11,8 @@ impl ReboundLaw for NeverRebound {
     fn probability(&self, _impact: &ImpactSite) -> f64 {
         0.0
     }
+
+    fn form(&self) -> super::ReboundForm<'_> {
+        super::ReboundForm::Never
+    }
 }

@@ -23,4 +23,8 @@ impl ReboundLaw for PolynomialRebound {
     fn probability(&self, impact: &ImpactSite) -> f64 {
         self.at(impact.theta)
     }
+
+    fn form(&self) -> super::ReboundForm<'_> {
+        super::ReboundForm::Polynomial(self)
+    }
 }

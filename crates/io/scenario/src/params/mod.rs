@@ -40,7 +40,9 @@ pub use rebound::{
     AlwaysLaw, CushionLaw, NeverLaw, PolynomialLaw, ReboundParams, SHOTCRETE_REBOUND_POLYNOMIAL,
 };
 pub use render::{ParticleColoring, RenderCamera, RenderParams, RenderTime, ViewPreset, point_size};
-pub use run::{Colormap, DEFAULT_LAYER_EPOCH, DomainParams, ExportFormat, OutputParams, SimulationParams};
+pub use run::{
+    Backend, Colormap, DEFAULT_LAYER_EPOCH, DomainParams, ExportFormat, OutputParams, SimulationParams,
+};
 pub use targets::{
     CylinderTarget, Edges, MAX_SPLAT_CELLS, MeshSide, MeshTarget, OpeningParams, PARTICLES_PER_SPLAT,
     RectangleTarget, ShellSide, SplatRadius, TargetParams, TargetShape, mean_plane, opening,

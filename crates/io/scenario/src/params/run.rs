@@ -13,6 +13,43 @@ choices!(Integrator {
     "exact" => Integrator::Exact,
 });
 
+/// What flies the particles (`[simulation] backend`, `spraysim run --backend`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Backend {
+    /// The engine's own flight on the CPU's cores.
+    #[default]
+    Cpu,
+    /// The GPU's kernels (a build with the `gpu` feature and a Vulkan adapter); a scenario
+    /// outside their scope is refused.
+    Gpu,
+    /// The GPU where the build, an adapter and the scenario allow it, else the CPU, saying why
+    /// in one line.
+    Auto,
+}
+
+choices!(Backend {
+    "cpu" => Backend::Cpu,
+    "gpu" => Backend::Gpu,
+    "auto" => Backend::Auto,
+});
+
+impl Backend {
+    /// The backend named `name` (`"cpu"`, `"gpu"` or `"auto"`), or an error listing them.
+    pub fn parse(name: &str) -> Result<Backend, String> {
+        use crate::reader::Choice;
+        Backend::NAMES.iter().find(|(n, _)| *n == name).map(|&(_, b)| b).ok_or_else(|| {
+            let names: Vec<String> = Backend::NAMES.iter().map(|(n, _)| format!("\"{n}\"")).collect();
+            format!("unknown backend {name:?}; expected one of {}", names.join(", "))
+        })
+    }
+
+    /// Its name in files: `"cpu"`, `"gpu"` or `"auto"`.
+    pub fn name(self) -> &'static str {
+        crate::reader::Choice::name(self)
+    }
+}
+
 /// `[simulation]`: time stepping.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SimulationParams {
@@ -35,6 +72,8 @@ pub struct SimulationParams {
     /// Most memory a run may need, bytes; 0: half of the machine's memory. A scenario whose
     /// estimate exceeds it is refused before the run.
     pub max_memory: f64,
+    /// What flies the particles: `"cpu"`, `"gpu"` or `"auto"`.
+    pub backend: Backend,
 }
 
 /// Default length of a layer epoch, s: where a spray builds its layer fastest (the default
@@ -70,6 +109,7 @@ pub(crate) fn read_simulation(s: &Section<'_>, drag: f64) -> Read<SimulationPara
         layer_epoch: s.number("layer_epoch", Some(DEFAULT_LAYER_EPOCH), Check::Positive(1.0), "s")?,
         gravity: s.numbers("gravity", Some(GRAVITY.to_array()), Check::Within(-100.0, 100.0), "m/s²")?,
         max_memory: s.number("max_memory", Some(0.0), Check::Within(0.0, 1e15), "bytes")?,
+        backend: s.choice("backend", Some(Backend::Cpu))?,
     };
     s.finish("[simulation]")?;
     Ok(p)

@@ -1,0 +1,56 @@
+//! The adapter and device the kernels run on.
+
+use crate::GpuError;
+
+/// Which adapter to run on.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct GpuOptions {
+    /// Only a software adapter (Mesa's lavapipe): slow, but on every machine, for tests.
+    pub software: bool,
+}
+
+/// An adapter and the device opened on it.
+#[derive(Debug)]
+pub struct Gpu {
+    /// The adapter: a GPU, or a software driver such as lavapipe.
+    pub adapter: wgpu::Adapter,
+    /// The device that owns the buffers and pipelines.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+}
+
+impl Gpu {
+    /// Opens a device on the first Vulkan adapter (the fastest, where there are several), or on
+    /// a software one where `options` asks; `WGPU_ADAPTER_NAME` picks one by name.
+    pub fn open(options: &GpuOptions) -> Result<Gpu, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::VULKAN;
+        desc.flags = wgpu::InstanceFlags::empty();
+        let instance = wgpu::Instance::new(desc.with_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: options.software,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("spraysim-gpu"),
+            required_features: wgpu::Features::empty(),
+            required_limits: wgpu::Limits::default(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+        Ok(Gpu { adapter, device, queue })
+    }
+
+    /// The adapter's name, driver and backend, e.g. `llvmpipe (LLVM 15.0.6, 256 bits), Mesa
+    /// 22.3.6, Vulkan`.
+    pub fn describe(&self) -> String {
+        let i = self.adapter.get_info();
+        format!("{}, {} {}, {:?}", i.name, i.driver, i.driver_info, i.backend)
+    }
+}

@@ -1,0 +1,455 @@
+//! [`GpuFlight`]: the engine's flight stage on the GPU. Each call uploads what changed (the
+//! particles, the scene's words, the rows of the layers that moved), runs the `fly` kernel over
+//! the particles and the `gather` kernel over the cells they listed, and reads back the
+//! particles, the counters and the listed cells.
+
+use crate::device::{Gpu, GpuOptions};
+use crate::pack::{
+    self, BYTES_PER_SLOT, GpuParticle, OBSTACLE_COUNTER_WORDS, ROW_GROUPS, TALLY_WORDS, TARGET_COUNTER_WORDS,
+    WORKGROUP,
+};
+use crate::{GpuError, scope};
+use rayon::prelude::*;
+use spraysim_engine::deposit::DepositSurface;
+use spraysim_engine::pipeline::{CellBook, FlightJob, FlightReport, FlightStage};
+use spraysim_engine::tally::{Quanta, Tallied, Tally};
+use spraysim_engine::world::{ObstacleTally, TargetTally};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+use wgpu::util::DeviceExt;
+
+/// The kernels' source.
+const SOURCE: &str = include_str!("flight.wgsl");
+
+/// The engine's flight stage on the GPU (see the crate's docs).
+#[derive(Debug)]
+pub struct GpuFlight {
+    gpu: Gpu,
+    layout: wgpu::BindGroupLayout,
+    fly: wgpu::ComputePipeline,
+    gather: wgpu::ComputePipeline,
+    buffers: Mutex<Buffers>,
+    profile: Mutex<Profile>,
+}
+
+/// Where the calls' time went, s, summed over the calls since the last
+/// [`GpuFlight::take_profile`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Profile {
+    /// Calls.
+    pub calls: u64,
+    /// Particles flown.
+    pub particles: u64,
+    /// Laying the job out and uploading it (particles, scene, changed layers).
+    pub upload: f64,
+    /// From submitting the kernels to their counters and particles read back: the kernels'
+    /// time, with the copies and the wait.
+    pub kernels: f64,
+    /// Reading back the cells listed (a second submission and wait).
+    pub cells: f64,
+    /// Turning what was read back into the engine's report.
+    pub report: f64,
+}
+
+/// Storage that grows as calls need.
+#[derive(Debug, Default)]
+struct Buffers {
+    particles: Option<wgpu::Buffer>,
+    scene: Option<wgpu::Buffer>,
+    thickness: Option<wgpu::Buffer>,
+    counters: Option<wgpu::Buffer>,
+    cells: Option<wgpu::Buffer>,
+    listed: Option<wgpu::Buffer>,
+    readback: Option<wgpu::Buffer>,
+    /// Per target, the identity of the layer the GPU's copy holds and its first cell there
+    /// (empty: the copy holds nothing known).
+    mirror: Vec<(u64, u32)>,
+}
+
+impl GpuFlight {
+    /// Opens a device as `options` asks and builds the kernels.
+    pub fn new(options: &GpuOptions) -> Result<GpuFlight, GpuError> {
+        let gpu = Gpu::open(options)?;
+        let device = &gpu.device;
+        // A kernel the driver cannot build is an error, not a panic.
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("flight.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SOURCE.into()),
+        });
+        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let ro = wgpu::BufferBindingType::Storage { read_only: true };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("flight"),
+            entries: &[
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, rw),
+                entry(2, ro),
+                entry(3, ro),
+                entry(4, rw),
+                entry(5, rw),
+                entry(6, rw),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("flight"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
+        let (fly, gather) = (pipeline("fly"), pipeline("gather"));
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Device(format!("the flight kernels do not build: {e}")));
+        }
+        let (buffers, profile) = (Mutex::new(Buffers::default()), Mutex::new(Profile::default()));
+        Ok(GpuFlight { gpu, layout, fly, gather, buffers, profile })
+    }
+
+    /// The adapter the kernels run on.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// The GPU's copy of the layers, m, every target's cells one after the other, as the last
+    /// call left it: the layers as they stood at that call's start.
+    pub fn read_layers(&self) -> Result<Vec<f32>, GpuError> {
+        let mut b = self.buffers.lock().map_err(|_| GpuError::Device("a previous call failed".into()))?;
+        let layer = some(&b.thickness)?.clone();
+        let bytes = layer.size();
+        let readback = grow(&self.gpu.device, &mut b.readback, bytes, READBACK);
+        let mut encoder =
+            self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        encoder.copy_buffer_to_buffer(&layer, 0, &readback, 0, bytes);
+        self.gpu.queue.submit([encoder.finish()]);
+        Ok(bytemuck::cast_slice(&self.read(&readback, bytes)?).to_vec())
+    }
+
+    /// Where the calls' time went since the last call of this, which starts the sums afresh.
+    pub fn take_profile(&self) -> Profile {
+        self.profile.lock().map(|mut p| std::mem::take(&mut *p)).unwrap_or_default()
+    }
+
+    /// Runs `job` on the GPU.
+    fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
+        scope::check(job.config)?;
+        let start = Instant::now();
+        let mut b = self.buffers.lock().map_err(|_| GpuError::Device("a previous call failed".into()))?;
+        // Forgotten until the call succeeds: a failed call loses the layers' changes it took.
+        let held = std::mem::take(&mut b.mirror);
+        let scene = pack::scene_words(job);
+        let nozzle = job
+            .particles
+            .iter()
+            .zip(job.quanta)
+            .find(|(p, _)| p.flags() & spraysim_engine::particles::flags::RELEASED == 0)
+            .map_or(0, |(_, &q)| q);
+        let nozzle =
+            u32::try_from(nozzle).map_err(|_| GpuError::TooLarge("a nozzle particle's quanta".into()))?;
+        let slots: Vec<GpuParticle> = job.particles.par_iter().map(|p| GpuParticle::of(p, job)).collect();
+        let n =
+            u32::try_from(slots.len()).map_err(|_| GpuError::TooLarge("the particles of a call".into()))?;
+        let limit = self.gpu.device.limits().max_storage_buffer_binding_size;
+        let cell_bytes = 16 * (u64::from(scene.cells) + 1);
+        if cell_bytes > limit || (BYTES_PER_SLOT * slots.len()) as u64 > limit {
+            return Err(GpuError::TooLarge(format!(
+                "{} cells or {n} particles in one call (one binding holds at most {limit} bytes)",
+                scene.cells
+            )));
+        }
+        let counter_words = TALLY_WORDS
+            + TARGET_COUNTER_WORDS * job.targets.len()
+            + OBSTACLE_COUNTER_WORDS * job.config.obstacles.len();
+        let params = pack::params(job, &scene, n, nozzle);
+        let mirror = self.upload(&mut b, job, (&scene, &held), &slots, counter_words);
+        let params = self.gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind = self.bind_group(&b, &params)?;
+        let particle_bytes = (BYTES_PER_SLOT * slots.len().max(1)) as u64;
+        let counter_bytes = 4 * counter_words as u64;
+        let readback = grow(&self.gpu.device, &mut b.readback, particle_bytes + counter_bytes, READBACK);
+        let uploaded = Instant::now();
+        let mut encoder =
+            self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_bind_group(0, &bind, &[]);
+            pass.set_pipeline(&self.fly);
+            let (x, y) = groups(n);
+            pass.dispatch_workgroups(x, y, 1);
+            pass.set_pipeline(&self.gather);
+            let (x, y) = groups(scene.cells);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        let (particles, counters) = (some(&b.particles)?, some(&b.counters)?);
+        encoder.copy_buffer_to_buffer(particles, 0, &readback, 0, particle_bytes);
+        encoder.copy_buffer_to_buffer(counters, 0, &readback, particle_bytes, counter_bytes);
+        self.gpu.queue.submit([encoder.finish()]);
+        let bytes = self.read(&readback, particle_bytes + counter_bytes)?;
+        let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..BYTES_PER_SLOT * slots.len()]);
+        let words: &[u32] = bytemuck::cast_slice(&bytes[particle_bytes as usize..]);
+        let flew = Instant::now();
+        let listed = self.listed(&mut b, words[2])?;
+        let gathered = Instant::now();
+        let report = report(job, &scene, flown, words, &listed);
+        b.mirror = mirror;
+        if let Ok(mut p) = self.profile.lock() {
+            p.calls += 1;
+            p.particles += u64::from(n);
+            p.upload += (uploaded - start).as_secs_f64();
+            p.kernels += (flew - uploaded).as_secs_f64();
+            p.cells += (gathered - flew).as_secs_f64();
+            p.report += gathered.elapsed().as_secs_f64();
+        }
+        Ok(report)
+    }
+
+    /// Uploads the call's particles, scene and layers (only the spans that changed where the
+    /// GPU's copy, `held`, holds the same layers), and zeroes the counters; returns what the
+    /// copy holds now.
+    fn upload(
+        &self,
+        b: &mut Buffers,
+        job: &FlightJob<'_>,
+        (scene, held): (&pack::SceneWords, &[(u64, u32)]),
+        slots: &[GpuParticle],
+        counters: usize,
+    ) -> Vec<(u64, u32)> {
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        let storage =
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+        let particles = grow(device, &mut b.particles, (BYTES_PER_SLOT * slots.len().max(1)) as u64, storage);
+        queue.write_buffer(&particles, 0, bytemuck::cast_slice(slots));
+        let words = grow(device, &mut b.scene, 4 * scene.words.len() as u64, storage);
+        queue.write_buffer(&words, 0, bytemuck::cast_slice(&scene.words));
+        let layout: Vec<(u64, u32)> = job
+            .revised
+            .iter()
+            .zip(&scene.first_cells)
+            .map(|(r, &first)| (r.as_ref().map_or(0, |r| r.0), first))
+            .collect();
+        let cells = scene.cells as usize + 1;
+        let fresh = b.thickness.as_ref().is_none_or(|t| t.size() < 4 * cells as u64)
+            || held != layout.as_slice()
+            || job.revised.iter().any(Option::is_none);
+        let layer = grow(device, &mut b.thickness, 4 * cells as u64, storage);
+        if fresh {
+            queue.write_buffer(&layer, 0, bytemuck::cast_slice(&pack::thicknesses(job)));
+        } else {
+            for ((target, revised), &first) in job.targets.iter().zip(job.revised).zip(&scene.first_cells) {
+                let Some((_, changed)) = revised else { continue };
+                let (Some(&lo), Some(&hi)) = (changed.first(), changed.last()) else { continue };
+                let span: Vec<f32> =
+                    target.surface.thickness()[lo as usize..=hi as usize].iter().map(|&t| t as f32).collect();
+                queue.write_buffer(&layer, 4 * u64::from(first + lo), bytemuck::cast_slice(&span));
+            }
+        }
+        let zero = vec![0u32; counters];
+        let c = grow(device, &mut b.counters, 4 * counters as u64, storage);
+        queue.write_buffer(&c, 0, bytemuck::cast_slice(&zero));
+        // New cell counters start at zero; `gather` leaves them so.
+        let cells = 16 * (u64::from(scene.cells) + 1);
+        grow(device, &mut b.cells, cells, storage);
+        grow(device, &mut b.listed, cells, storage);
+        layout
+    }
+
+    fn bind_group(&self, b: &Buffers, params: &wgpu::Buffer) -> Result<wgpu::BindGroup, GpuError> {
+        let buffers = [
+            params,
+            some(&b.particles)?,
+            some(&b.scene)?,
+            some(&b.thickness)?,
+            some(&b.counters)?,
+            some(&b.cells)?,
+            some(&b.listed)?,
+        ];
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(k, buffer)| wgpu::BindGroupEntry {
+                binding: k as u32,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        Ok(self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.layout,
+            entries: &entries,
+        }))
+    }
+
+    /// The `count` cells listed, each as (cell, quanta low, quanta high, impacts).
+    fn listed(&self, b: &mut Buffers, count: u32) -> Result<Vec<[u32; 4]>, GpuError> {
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = 16 * u64::from(count);
+        let readback = grow(&self.gpu.device, &mut b.readback, bytes, READBACK);
+        let mut encoder =
+            self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        encoder.copy_buffer_to_buffer(some(&b.listed)?, 0, &readback, 0, bytes);
+        self.gpu.queue.submit([encoder.finish()]);
+        let data = self.read(&readback, bytes)?;
+        Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
+    }
+
+    /// Waits for the queue and copies the first `bytes` of `readback` out.
+    fn read(&self, readback: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuError> {
+        let slice = readback.slice(..bytes);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        let err = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
+        self.gpu
+            .device
+            .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(Duration::from_secs(600)) })
+            .map_err(|e| err(&e))?;
+        rx.recv().map_err(|e| err(&e))?.map_err(|e| err(&e))?;
+        let out = slice.get_mapped_range().map_err(|e| GpuError::Readback(format!("{e:?}")))?.to_vec();
+        readback.unmap();
+        Ok(out)
+    }
+}
+
+/// Usage of the readback buffer.
+const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
+
+/// `slot`'s buffer, replaced by a larger one (a power of two of bytes) if it holds fewer than
+/// `bytes`.
+fn grow(
+    device: &wgpu::Device,
+    slot: &mut Option<wgpu::Buffer>,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let bytes = bytes.max(16).next_multiple_of(16);
+    match slot {
+        Some(b) if b.size() >= bytes => b.clone(),
+        _ => {
+            let b = device.create_buffer(&wgpu::BufferDescriptor {
+                label: None,
+                size: bytes.next_power_of_two(),
+                usage,
+                mapped_at_creation: false,
+            });
+            *slot = Some(b.clone());
+            b
+        }
+    }
+}
+
+fn some(b: &Option<wgpu::Buffer>) -> Result<&wgpu::Buffer, GpuError> {
+    b.as_ref().ok_or_else(|| GpuError::Device("a buffer was not allocated".into()))
+}
+
+/// Workgroups (across, rows) covering `n` invocations.
+fn groups(n: u32) -> (u32, u32) {
+    let g = n.div_ceil(WORKGROUP).max(1);
+    (g.min(ROW_GROUPS), g.div_ceil(ROW_GROUPS))
+}
+
+/// A Tallied from a counter slot (count, quanta low, quanta high).
+fn tallied(w: &[u32], at: usize) -> Tallied {
+    Tallied { count: u64::from(w[at]), quanta: Quanta::from(w[at + 1]) | (Quanta::from(w[at + 2]) << 32) }
+}
+
+/// The report of `job` from the particles flown, the counter words and the listed cells.
+fn report(
+    job: &FlightJob<'_>,
+    scene: &pack::SceneWords,
+    flown: &[GpuParticle],
+    w: &[u32],
+    listed: &[[u32; 4]],
+) -> FlightReport {
+    let particles = flown.par_iter().zip(job.particles).map(|(g, p)| g.update(p)).collect();
+    let slot = |k: usize| tallied(w, 4 + 4 * k);
+    let tally = Tally {
+        left_domain: slot(0),
+        expired: slot(1),
+        overspray: slot(2),
+        substrate_first_impacts: slot(3),
+        substrate_first_rebounds: slot(4),
+        released_left: slot(5),
+        released_expired: slot(6),
+        ..Tally::default()
+    };
+    let targets = (0..job.targets.len())
+        .map(|t| {
+            let at = TALLY_WORDS + TARGET_COUNTER_WORDS * t;
+            let s = |k: usize| tallied(w, at + 4 * k);
+            TargetTally {
+                hits: u64::from(w[at]),
+                stuck: s(1),
+                loose: s(2),
+                trapped: s(3),
+                delivered: s(4),
+                stuck_back: s(5),
+                received: s(6),
+                received_back: Quanta::from(w[at + 29]) | (Quanta::from(w[at + 30]) << 32),
+                detached: Tallied::default(),
+            }
+        })
+        .collect();
+    let base = TALLY_WORDS + TARGET_COUNTER_WORDS * job.targets.len();
+    let obstacles = (0..job.config.obstacles.len())
+        .map(|o| {
+            let at = base + OBSTACLE_COUNTER_WORDS * o;
+            ObstacleTally { hits: u64::from(w[at]), stuck: tallied(w, at + 4), received: tallied(w, at + 8) }
+        })
+        .collect();
+    let mut cells: Vec<Vec<CellBook>> = vec![Vec::new(); job.targets.len()];
+    for &[cell, lo, hi, hits] in listed {
+        // The target whose grid holds the cell: the last whose first cell is not past it.
+        let t = scene.first_cells.partition_point(|&f| f <= cell).saturating_sub(1);
+        let quanta = u64::from(lo) | (u64::from(hi) << 32);
+        cells[t].push(CellBook { cell: cell - scene.first_cells[t], quanta, hits });
+    }
+    // In cell order, whatever order the invocations listed them in.
+    cells.iter_mut().for_each(|c| c.sort_unstable_by_key(|b| b.cell));
+    let steps = u64::from(w[0]) | (u64::from(w[1]) << 32);
+    FlightReport { particles, tally, targets, obstacles, cells, steps, updates: steps }
+}
+
+impl FlightStage for GpuFlight {
+    fn fly(&self, job: &FlightJob<'_>) -> Result<FlightReport, String> {
+        self.run(job).map_err(|e| e.to_string())
+    }
+
+    fn describe(&self) -> String {
+        self.gpu.describe()
+    }
+
+    fn profile(&self) -> Option<String> {
+        let p = self.take_profile();
+        let per_call = |s: f64| 1e6 * s / p.calls.max(1) as f64;
+        Some(format!(
+            "{} calls of {:.0} particles: per call, upload {:.0} µs, kernels with counters and particles read back \
+             {:.0} µs, listed cells read back {:.0} µs, report {:.0} µs",
+            p.calls,
+            p.particles as f64 / p.calls.max(1) as f64,
+            per_call(p.upload),
+            per_call(p.kernels),
+            per_call(p.cells),
+            per_call(p.report)
+        ))
+    }
+}

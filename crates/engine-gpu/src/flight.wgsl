@@ -1,0 +1,882 @@
+// The flight of one particle per invocation through the steps of one call (a layer epoch or
+// part of one), against the layers as they stood at the call's start: the GPU twin of the
+// engine's `pipeline/kernel.rs`, in f32, with every surface tested in every step.
+//
+// Layouts (word offsets, all u32; f32 through bitcast) are written by `pack.rs`, whose
+// constants these mirror. What a particle leaves behind is booked in integer atomics, whose
+// sums do not depend on the order of the invocations: volumes in quanta as 64-bit pairs
+// (low word, high word, the carry added by whoever wraps the low word).
+
+struct Params {
+    gravity_dt: vec4<f32>, // g (m/s²), Δt (s)
+    min_drag: vec4<f32>,   // domain min (m), quadratic drag k (1/m)
+    max_life: vec4<f32>,   // domain max (m), lifetime in steps
+    steps: vec4<u32>,      // from, to, particle count, integrator (0 Euler, 1 semi-implicit, 2 exact)
+    seed: vec4<u32>,       // seed low, seed high, impacts per step, invocations per dispatch row
+    sizes: vec4<u32>,      // targets, obstacle shapes, released particles, nozzle quanta
+    tables: vec4<u32>,     // word offsets of: targets, shapes, released table; cells in all grids
+}
+
+// 36 bytes a slot: position (m), velocity (m/s), birth step, id, impacts (low 12 bits) and
+// status bits (the next 4).
+struct Particle {
+    x: f32, y: f32, z: f32,
+    vx: f32, vy: f32, vz: f32,
+    born: u32,
+    id: u32,
+    status: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read_write> particles: array<Particle>;
+@group(0) @binding(2) var<storage, read> scene: array<u32>;
+@group(0) @binding(3) var<storage, read> thickness: array<f32>;
+@group(0) @binding(4) var<storage, read_write> counters: array<atomic<u32>>;
+// Per cell of every grid: deposit quanta (low, high), impacts, and a mark (listed this call).
+@group(0) @binding(5) var<storage, read_write> cells: array<atomic<u32>>;
+// The cells listed, 4 words each: the cell (over all grids), then, after `gather`, its
+// deposit quanta (low, high) and impacts.
+@group(0) @binding(6) var<storage, read_write> listed: array<u32>;
+
+const ALIVE: u32 = 1u;
+const HIT_SUBSTRATE: u32 = 2u;
+const RELEASED: u32 = 4u;
+const BOUNCED: u32 = 8u;
+const MAX_IMPACTS: u32 = 4095u;
+const MATERIAL_EVENT: u32 = 0xffffffffu;
+// A rebound leaves from this far off the surface struck (m): above f32's resolution of
+// coordinates of a few metres (0.5 µm at 4 m).
+const SURFACE_OFFSET: f32 = 2e-6;
+
+// Model words (per owner: the targets, then the obstacles).
+const MODEL_WORDS: u32 = 64u;
+// Target words.
+const TARGET_WORDS: u32 = 32u;
+// Shape words.
+const SHAPE_WORDS: u32 = 16u;
+
+// Counters: [0, 1] particle-steps (low, high), [2] cells listed, then the run's fates (slots of
+// 4 words: count, quanta low, quanta high, unused), then per target and per obstacle.
+const C_STEPS: u32 = 0u;
+const C_LISTED: u32 = 2u;
+const C_TALLY: u32 = 4u;
+const T_LEFT: u32 = 0u;
+const T_EXPIRED: u32 = 1u;
+const T_OVERSPRAY: u32 = 2u;
+const T_FIRST: u32 = 3u;
+const T_FIRST_REBOUND: u32 = 4u;
+const T_RELEASED_LEFT: u32 = 5u;
+const T_RELEASED_EXPIRED: u32 = 6u;
+const TALLY_SLOTS: u32 = 7u;
+// Per target: hits, stuck, loose, trapped, delivered, stuck on the back, received, received on
+// the back.
+const TG_HITS: u32 = 0u;
+const TG_STUCK: u32 = 1u;
+const TG_LOOSE: u32 = 2u;
+const TG_TRAPPED: u32 = 3u;
+const TG_DELIVERED: u32 = 4u;
+const TG_STUCK_BACK: u32 = 5u;
+const TG_RECEIVED: u32 = 6u;
+const TG_RECEIVED_BACK: u32 = 7u;
+const TARGET_SLOTS: u32 = 8u;
+// Per obstacle: hits, stuck, received.
+const OB_HITS: u32 = 0u;
+const OB_STUCK: u32 = 1u;
+const OB_RECEIVED: u32 = 2u;
+const OBSTACLE_SLOTS: u32 = 3u;
+
+fn f(at: u32) -> f32 {
+    return bitcast<f32>(scene[at]);
+}
+
+fn v3(at: u32) -> vec3<f32> {
+    return vec3<f32>(f(at), f(at + 1u), f(at + 2u));
+}
+
+// ---- Integer books ----
+
+fn add64(at: u32, q: vec2<u32>) {
+    let old = atomicAdd(&counters[at], q.x);
+    let carry = select(0u, 1u, old + q.x < old);
+    if (q.y + carry != 0u) {
+        atomicAdd(&counters[at + 1u], q.y + carry);
+    }
+}
+
+fn tally(slot: u32, q: vec2<u32>) {
+    let at = C_TALLY + 4u * slot;
+    atomicAdd(&counters[at], 1u);
+    add64(at + 1u, q);
+}
+
+fn target_slot(t: u32, slot: u32) -> u32 {
+    return C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * t + slot);
+}
+
+fn obstacle_slot(o: u32, slot: u32) -> u32 {
+    return C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * params.sizes.x + OBSTACLE_SLOTS * o + slot);
+}
+
+fn count_at(at: u32, q: vec2<u32>) {
+    atomicAdd(&counters[at], 1u);
+    add64(at + 1u, q);
+}
+
+// Lists `cell` (over all grids) the first time anything lands on it in this call.
+fn mark(cell: u32) {
+    if (atomicExchange(&cells[4u * cell + 3u], 1u) == 0u) {
+        let k = atomicAdd(&counters[C_LISTED], 1u);
+        listed[4u * k] = cell;
+    }
+}
+
+fn deposit(cell: u32, q: vec2<u32>) {
+    if (q.x == 0u && q.y == 0u) {
+        return;
+    }
+    let old = atomicAdd(&cells[4u * cell], q.x);
+    let carry = select(0u, 1u, old + q.x < old);
+    if (q.y + carry != 0u) {
+        atomicAdd(&cells[4u * cell + 1u], q.y + carry);
+    }
+    mark(cell);
+}
+
+// `q` split over `n` cells (n < 2¹⁶): share k takes q / n, and share 0 the remainder too.
+fn share(q: vec2<u32>, n: u32, k: u32) -> vec2<u32> {
+    let hi = q.y / n;
+    let r = q.y % n;
+    let t1 = (r << 16u) | (q.x >> 16u);
+    let q1 = t1 / n;
+    let r1 = t1 % n;
+    let t2 = (r1 << 16u) | (q.x & 0xffffu);
+    let q2 = t2 / n;
+    let r2 = t2 % n;
+    var lo = (q1 << 16u) | q2;
+    var out_hi = hi;
+    if (k == 0u) {
+        let sum = lo + r2;
+        out_hi += select(0u, 1u, sum < lo);
+        lo = sum;
+    }
+    return vec2<u32>(lo, out_hi);
+}
+
+// ---- Random streams: a counter-based hash of (seed, particle, event, draw) ----
+
+fn mix32(x0: u32) -> u32 {
+    var x = x0;
+    x ^= x >> 16u;
+    x *= 0x7feb352du;
+    x ^= x >> 15u;
+    x *= 0x846ca68bu;
+    x ^= x >> 16u;
+    return x;
+}
+
+// A uniform draw in [0, 1) with 24 bits.
+fn uniform01(id: u32, event: u32, draw: u32) -> f32 {
+    var h = mix32(params.seed.x ^ 0x9e3779b9u);
+    h = mix32(h ^ params.seed.y);
+    h = mix32(h ^ id);
+    h = mix32(h ^ event);
+    h = mix32(h ^ (draw * 0x85ebca6bu));
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+// ---- Motion ----
+
+fn acceleration(v: vec3<f32>) -> vec3<f32> {
+    let g = params.gravity_dt.xyz;
+    let k = params.min_drag.w;
+    if (k == 0.0) {
+        return g;
+    }
+    return g - k * length(v) * v;
+}
+
+struct State {
+    x: vec3<f32>,
+    v: vec3<f32>,
+}
+
+fn advance(x: vec3<f32>, v: vec3<f32>, h: f32) -> State {
+    let a = acceleration(v);
+    let v1 = v + a * h;
+    var x1 = x + v * h;
+    if (params.steps.w == 1u) {
+        x1 = x + v1 * h;
+    } else if (params.steps.w == 2u) {
+        x1 = x + v * h + 0.5 * a * h * h;
+    }
+    return State(x1, v1);
+}
+
+// ---- Surfaces ----
+
+// The first hit of a segment: its fraction of the segment, point, normal (facing the side the
+// segment came from), the owner (target t, or obstacle `OBSTACLE + o`), and on a target's front
+// the cell struck (else `NO_CELL`).
+struct Hit {
+    t: f32,
+    point: vec3<f32>,
+    normal: vec3<f32>,
+    owner: u32,
+    cell: u32,
+}
+
+const NONE: f32 = 2.0;
+const OBSTACLE: u32 = 0x10000u;
+const NO_CELL: u32 = 0xffffffffu;
+
+fn no_hit() -> Hit {
+    return Hit(NONE, vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), 0u, NO_CELL);
+}
+
+// The smaller root in [0, 1] of a t² + 2 b t + c = 0 entered from outside (c ≥ 0), or NONE.
+fn entry_root(a: f32, b: f32, c: f32) -> f32 {
+    if (a <= 0.0 || b >= 0.0) {
+        return NONE;
+    }
+    let disc = b * b - a * c;
+    if (disc < 0.0) {
+        return NONE;
+    }
+    let t = (-b - sqrt(disc)) / a;
+    if (t < 0.0 || t > 1.0) {
+        return NONE;
+    }
+    return t;
+}
+
+// A plane's crossing by the segment: (fraction, signed distance at its start), or NONE.
+fn crossing(point: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>) -> vec2<f32> {
+    let d0 = dot(p0 - point, n);
+    let d1 = dot(p1 - point, n);
+    if ((d0 > 0.0 && d1 <= 0.0) || (d0 < 0.0 && d1 >= 0.0)) {
+        return vec2<f32>(clamp(d0 / (d0 - d1), 0.0, 1.0), d0);
+    }
+    return vec2<f32>(NONE, 0.0);
+}
+
+fn facing(n: vec3<f32>, d0: f32) -> vec3<f32> {
+    return select(-n, n, d0 > 0.0);
+}
+
+fn shape_hit(at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    var h = no_hit();
+    let kind = scene[at];
+    let d = p1 - p0;
+    switch kind {
+        // Plane: point, normal.
+        case 0u: {
+            let c = crossing(v3(at + 2u), v3(at + 5u), p0, p1);
+            if (c.x <= 1.0) {
+                h = Hit(c.x, p0 + d * c.x, facing(v3(at + 5u), c.y), 0u, NO_CELL);
+            }
+        }
+        // Sphere: centre, radius.
+        case 1u: {
+            let m = p0 - v3(at + 2u);
+            let r = f(at + 5u);
+            let c = dot(m, m) - r * r;
+            if (c < 0.0) {
+                h = Hit(0.0, p0, normalize(m), 0u, NO_CELL);
+            } else {
+                let t = entry_root(dot(d, d), dot(m, d), c);
+                if (t <= 1.0) {
+                    let q = p0 + d * t;
+                    h = Hit(t, q, normalize(q - v3(at + 2u)), 0u, NO_CELL);
+                }
+            }
+        }
+        // Cylinder: cap centres a, b, radius.
+        case 2u: {
+            h = cylinder_hit(v3(at + 2u), v3(at + 5u), f(at + 8u), p0, p1);
+        }
+        // Disk: centre, normal, radius.
+        case 3u: {
+            let c = crossing(v3(at + 2u), v3(at + 5u), p0, p1);
+            if (c.x <= 1.0) {
+                let q = p0 + d * c.x;
+                let r = f(at + 8u);
+                let off = q - v3(at + 2u);
+                if (dot(off, off) <= r * r) {
+                    h = Hit(c.x, q, facing(v3(at + 5u), c.y), 0u, NO_CELL);
+                }
+            }
+        }
+        // Face: centre, normal, up, right, half width, half height.
+        default: {
+            let c = crossing(v3(at + 2u), v3(at + 5u), p0, p1);
+            if (c.x <= 1.0) {
+                let q = p0 + d * c.x;
+                let off = q - v3(at + 2u);
+                if (abs(dot(off, v3(at + 11u))) <= f(at + 14u) && abs(dot(off, v3(at + 8u))) <= f(at + 15u)) {
+                    h = Hit(c.x, q, facing(v3(at + 5u), c.y), 0u, NO_CELL);
+                }
+            }
+        }
+    }
+    h.owner = OBSTACLE + scene[at + 1u];
+    return h;
+}
+
+fn cylinder_hit(a: vec3<f32>, b: vec3<f32>, r: f32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    let axis = b - a;
+    let len = length(axis);
+    let u = axis / len;
+    let m = p0 - a;
+    let d = p1 - p0;
+    let ms = dot(m, u);
+    let ds = dot(d, u);
+    let m_perp = m - u * ms;
+    let d_perp = d - u * ds;
+    let c = dot(m_perp, m_perp) - r * r;
+    if (c < 0.0 && ms > 0.0 && ms < len) {
+        // Inside: out through the nearest of mantle and caps.
+        let to_mantle = r - length(m_perp);
+        var n = u;
+        if (to_mantle <= min(ms, len - ms)) {
+            n = normalize(m_perp);
+        } else if (ms < len - ms) {
+            n = -u;
+        }
+        return Hit(0.0, p0, n, 0u, NO_CELL);
+    }
+    var best = no_hit();
+    if (c >= 0.0) {
+        let t = entry_root(dot(d_perp, d_perp), dot(m_perp, d_perp), c);
+        if (t <= 1.0) {
+            let s = ms + ds * t;
+            if (s >= 0.0 && s <= len) {
+                best = Hit(t, p0 + d * t, normalize(m_perp + d_perp * t), 0u, NO_CELL);
+            }
+        }
+    }
+    // The caps, entered from outside along the axis.
+    for (var k = 0u; k < 2u; k++) {
+        let cap = select(len, 0.0, k == 0u);
+        let outside = select(ms > len, ms < 0.0, k == 0u);
+        if (!outside || ds == 0.0) {
+            continue;
+        }
+        let t = (cap - ms) / ds;
+        if (t >= 0.0 && t <= 1.0 && t < best.t) {
+            let radial = m_perp + d_perp * t;
+            if (dot(radial, radial) <= r * r) {
+                best = Hit(t, p0 + d * t, select(u, -u, k == 0u), 0u, NO_CELL);
+            }
+        }
+    }
+    return best;
+}
+
+// A target's grid: the cell of in-face coordinates (u, v) (m from its centre), clamped to it.
+fn cell_at(at: u32, u: f32, v: f32) -> u32 {
+    let cols = scene[at + 14u];
+    let rows = scene[at + 15u];
+    let w = 2.0 * f(at + 12u);
+    let h = 2.0 * f(at + 13u);
+    let col = min(u32(max((u / w + 0.5) * f32(cols), 0.0)), cols - 1u);
+    let row = min(u32(max((v / h + 0.5) * f32(rows), 0.0)), rows - 1u);
+    return row * cols + col;
+}
+
+// The first hit of the segment on target t: its layer from the front (read as flat at the
+// thickness of the cell under the crossing, found again at most three times), or its bare
+// back.
+fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    let at = params.tables.x + TARGET_WORDS * t;
+    let c = v3(at);
+    let n = v3(at + 3u);
+    let up = v3(at + 6u);
+    let right = v3(at + 9u);
+    let hw = f(at + 12u);
+    let hh = f(at + 13u);
+    let first = scene[at + 16u];
+    let top = f(at + 17u);
+    let h0 = dot(p0 - c, n);
+    let h1 = dot(p1 - c, n);
+    let d = p1 - p0;
+    var h = no_hit();
+    var own = 0.0;
+    if (h0 > 0.0 && h0 <= top) {
+        let u0 = dot(p0 - c, right);
+        let v0 = dot(p0 - c, up);
+        if (abs(u0) <= hw && abs(v0) <= hh) {
+            own = thickness[first + cell_at(at, u0, v0)];
+        }
+    }
+    if (h0 > 0.0 && h0 <= own) {
+        // Starting inside the layer, a path enters it only after leaving it: within one step it
+        // meets only the bare surface.
+        if (h1 <= 0.0) {
+            let s = h0 / (h0 - h1);
+            let q = p0 + d * s;
+            let u = dot(q - c, right);
+            let v = dot(q - c, up);
+            if (abs(u) <= hw && abs(v) <= hh) {
+                h = Hit(s, q, n, t, cell_at(at, u, v));
+            }
+        }
+    } else if (h0 > 0.0 && h1 <= top) {
+        // From the front, into the band the layer may fill: the crossing of the layer's height
+        // in the cell under it, found again at most three times. A path that meets a column
+        // taller than its start enters it through its side, and the material settles in the
+        // column it came down (as in ballistic deposition: stacking it on the taller one would
+        // let every column that gets ahead catch its neighbours' flux and grow into a needle).
+        var s = 1.0;
+        if (h1 < 0.0) {
+            s = h0 / (h0 - h1);
+        }
+        var layer = -1.0;
+        var side = false;
+        for (var k = 0u; k < 3u; k++) {
+            let q = p0 + d * s;
+            let next = thickness[first + cell_at(at, dot(q - c, right), dot(q - c, up))];
+            if (h0 <= next) {
+                side = true;
+                break;
+            }
+            if (next == layer) {
+                break;
+            }
+            layer = next;
+            if (h1 < layer) {
+                s = (h0 - layer) / (h0 - h1);
+            } else {
+                s = NONE;
+                break;
+            }
+        }
+        if (s <= 1.0) {
+            let q = p0 + d * s;
+            let u = dot(q - c, right);
+            let v = dot(q - c, up);
+            if (abs(u) <= hw && abs(v) <= hh) {
+                var came = q;
+                if (side) {
+                    // Half a cell back along the path, within it.
+                    let cells = vec2<f32>(2.0 * hw / f32(scene[at + 14u]), 2.0 * hh / f32(scene[at + 15u]));
+                    let along = length(d - n * dot(d, n));
+                    came = p0 + d * max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
+                }
+                h = Hit(s, q, n, t, cell_at(at, dot(came - c, right), dot(came - c, up)));
+            }
+        }
+    } else if (h0 < 0.0 && h1 >= 0.0) {
+        // From behind, onto the bare back.
+        let s = clamp(h0 / (h0 - h1), 0.0, 1.0);
+        let q = p0 + d * s;
+        let u = dot(q - c, right);
+        let v = dot(q - c, up);
+        if (abs(u) <= hw && abs(v) <= hh) {
+            h = Hit(s, q, -n, t, NO_CELL);
+        }
+    }
+    return h;
+}
+
+fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    var best = no_hit();
+    for (var t = 0u; t < params.sizes.x; t++) {
+        let h = target_hit(t, p0, p1);
+        if (h.t < best.t) {
+            best = h;
+        }
+    }
+    for (var k = 0u; k < params.sizes.y; k++) {
+        let h = shape_hit(params.tables.y + SHAPE_WORDS * k, p0, p1);
+        if (h.t < best.t) {
+            best = h;
+        }
+    }
+    return best;
+}
+
+// ---- Impact laws ----
+
+// The mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s, over
+// at most 25 × 25 of them (a wider disc is sampled with a stride), m.
+fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
+    let at = params.tables.x + TARGET_WORDS * t;
+    let first = scene[at + 16u];
+    let cols = i32(scene[at + 14u]);
+    let rows = i32(scene[at + 15u]);
+    let dx = 2.0 * f(at + 12u) / f32(cols);
+    let dy = 2.0 * f(at + 13u) / f32(rows);
+    let rx = i32(floor(radius / dx));
+    let ry = i32(floor(radius / dy));
+    if (rx == 0 && ry == 0) {
+        return thickness[first + cell];
+    }
+    let stride = max(1, (max(rx, ry) + 11) / 12);
+    let row = i32(cell) / cols;
+    let col = i32(cell) % cols;
+    var sum = 0.0;
+    var n = 0.0;
+    for (var j = -ry; j <= ry; j += stride) {
+        let r = row + j;
+        if (r < 0 || r >= rows) {
+            continue;
+        }
+        for (var i = -rx; i <= rx; i += stride) {
+            let k = col + i;
+            let x = f32(i) * dx;
+            let y = f32(j) * dy;
+            if (k < 0 || k >= cols || x * x + y * y > radius * radius) {
+                continue;
+            }
+            sum += thickness[first + u32(r * cols + k)];
+            n += 1.0;
+        }
+    }
+    return sum / max(n, 1.0);
+}
+
+// Σ cᵢ xⁱ with x = θ / 90°, clamped to [0, 1], from n coefficients at `at`.
+fn polynomial(at: u32, n: u32, theta: f32) -> f32 {
+    let x = theta / 1.5707963;
+    var acc = 0.0;
+    for (var k = n; k > 0u; k--) {
+        acc = acc * x + f(at + k - 1u);
+    }
+    return clamp(acc, 0.0, 1.0);
+}
+
+// The cushion law's grain diameter for the material draw m (m; negative: mortar).
+fn grain(model: u32, m: f32) -> f32 {
+    let frac = f(model + 16u);
+    let q = (m - (1.0 - frac)) / frac;
+    if (frac <= 0.0 || q < 0.0) {
+        return -1.0;
+    }
+    let g = model + 20u;
+    let n = scene[model + 19u];
+    let qq = min(q, 1.0);
+    // The first sieve whose passing share exceeds q, clamped to [1, n - 1].
+    var k = 1u;
+    while (k < n - 1u && f(g + 2u * k + 1u) <= qq) {
+        k++;
+    }
+    let d0 = f(g + 2u * (k - 1u));
+    let s0 = f(g + 2u * (k - 1u) + 1u);
+    let d1 = f(g + 2u * k);
+    let s1 = f(g + 2u * k + 1u);
+    if (s1 <= s0) {
+        return d1;
+    }
+    let w = clamp((qq - s0) / (s1 - s0), 0.0, 1.0);
+    return exp(log(d0) + w * (log(d1) - log(d0)));
+}
+
+// p_r of the law of `model` (word offset).
+fn rebound_law(model: u32, theta: f32, layer: f32, has_layer: bool, material: f32, bounced: bool) -> f32 {
+    let kind = scene[model + 6u];
+    if (kind == 0u) {
+        return 1.0;
+    }
+    if (kind == 1u) {
+        return 0.0;
+    }
+    let ricochet = polynomial(model + 8u, scene[model + 7u], theta);
+    if (kind == 2u) {
+        return ricochet;
+    }
+    let d = grain(model, material);
+    if (d < 0.0 || (bounced && has_layer && layer >= f(model + 18u) * d)) {
+        return 0.0;
+    }
+    if (layer < f(model + 17u) * d) {
+        return 1.0;
+    }
+    return clamp(ricochet / f(model + 16u), 0.0, 1.0);
+}
+
+// A unit direction within `half` (rad) of unit `axis`, uniform over the cone's solid angle.
+fn scatter(axis: vec3<f32>, half_angle: f32, u1: f32, u2: f32) -> vec3<f32> {
+    if (half_angle <= 0.0) {
+        return axis;
+    }
+    let cos_t = 1.0 - u1 * (1.0 - cos(half_angle));
+    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let phi = 6.2831853 * u2;
+    let sg = select(-1.0, 1.0, axis.z >= 0.0);
+    let a = -1.0 / (sg + axis.z);
+    let b = axis.x * axis.y * a;
+    let e1 = vec3<f32>(1.0 + sg * axis.x * axis.x * a, sg * b, -sg * axis.x);
+    let e2 = vec3<f32>(b, sg + axis.y * axis.y * a, -axis.y);
+    return normalize(axis * cos_t + (e1 * cos(phi) + e2 * sin(phi)) * sin_t);
+}
+
+// ---- One particle ----
+
+var<private> P: Particle;
+
+fn flags() -> u32 {
+    return (P.status >> 12u) & 15u;
+}
+
+fn set_flags(bits: u32) {
+    P.status = (P.status & 0xfffu) | (bits << 12u);
+}
+
+fn impacts() -> u32 {
+    return P.status & 0xfffu;
+}
+
+// The volume the particle carries, quanta: the nozzle's, or a released particle's own.
+fn quanta() -> vec2<u32> {
+    if ((flags() & RELEASED) == 0u) {
+        return vec2<u32>(params.sizes.w, 0u);
+    }
+    var lo = 0u;
+    var hi = params.sizes.z;
+    let table = params.tables.z;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (scene[table + 3u * mid] < P.id) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    if (lo < params.sizes.z && scene[table + 3u * lo] == P.id) {
+        return vec2<u32>(scene[table + 3u * lo + 1u], scene[table + 3u * lo + 2u]);
+    }
+    return vec2<u32>(0u, 0u);
+}
+
+// Resolves the impact `h` with velocity `v_in`; books it. Returns the rebound velocity, with
+// w = 1, or w = 0 if the particle stuck (and left flight).
+fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
+    let on_target = h.owner < OBSTACLE;
+    let front = on_target && h.cell != NO_CELL;
+    let model = MODEL_WORDS * select(params.sizes.x + (h.owner - OBSTACLE), h.owner, on_target);
+    let fl = flags();
+    let bounced = (fl & BOUNCED) != 0u;
+    let released = (fl & RELEASED) != 0u;
+    var layer = 0.0;
+    if (front) {
+        layer = cushion(h.owner, h.cell, f(model + 5u));
+    }
+    let material = uniform01(P.id, MATERIAL_EVENT, 0u);
+    let speed = length(v_in);
+    var cos_theta = 1.0;
+    if (speed > 0.0) {
+        cos_theta = clamp(-dot(v_in, h.normal) / speed, 0.0, 1.0);
+        if (front) {
+            // On a layer, θ is taken on the bare surface (as the field's curves are).
+            let bare = v3(params.tables.x + TARGET_WORDS * h.owner + 3u);
+            cos_theta = min(abs(dot(v_in, bare)) / speed, 1.0);
+        }
+    }
+    let theta = acos(cos_theta);
+    let p = clamp(f(model) * rebound_law(model, theta, layer, front, material, bounced), 0.0, 1.0);
+    let event = impacts();
+    var stuck = true;
+    var loose = false;
+    var v_out = vec3<f32>(0.0);
+    if (uniform01(P.id, event, 0u) < p) {
+        let out_speed = speed * f(model + 1u);
+        if (out_speed < f(model + 3u) && h.normal.z >= f(model + 4u)) {
+            loose = true;
+        } else {
+            stuck = false;
+            let reflected = v_in - 2.0 * min(dot(v_in, h.normal), 0.0) * h.normal;
+            var axis = h.normal;
+            if (dot(reflected, reflected) > 0.0) {
+                axis = normalize(reflected);
+            }
+            var dir = scatter(axis, f(model + 2u), uniform01(P.id, event, 1u), uniform01(P.id, event, 2u));
+            if (dot(dir, h.normal) < 0.0) {
+                dir = dir - 2.0 * dot(dir, h.normal) * h.normal;
+            }
+            v_out = dir * out_speed;
+        }
+    }
+    book(h, front, stuck, loose, bounced, released, q);
+    if (stuck) {
+        set_flags(flags() & ~ALIVE);
+        return vec4<f32>(0.0);
+    }
+    set_flags(flags() | BOUNCED);
+    return vec4<f32>(v_out, 1.0);
+}
+
+fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: bool, q: vec2<u32>) {
+    if (h.owner >= OBSTACLE) {
+        let o = h.owner - OBSTACLE;
+        atomicAdd(&counters[obstacle_slot(o, OB_HITS)], 1u);
+        if (stuck) {
+            count_at(obstacle_slot(o, select(OB_STUCK, OB_RECEIVED, released)), q);
+        }
+        return;
+    }
+    let t = h.owner;
+    let at = params.tables.x + TARGET_WORDS * t;
+    atomicAdd(&counters[target_slot(t, TG_HITS)], 1u);
+    if (stuck) {
+        if (released) {
+            count_at(target_slot(t, TG_RECEIVED), q);
+            if (!front) {
+                add64(target_slot(t, TG_RECEIVED_BACK), q);
+            }
+        } else if (!front) {
+            count_at(target_slot(t, TG_STUCK_BACK), q);
+        } else {
+            count_at(target_slot(t, TG_STUCK), q);
+            if (loose) {
+                count_at(target_slot(t, TG_LOOSE), q);
+            } else if (bounced) {
+                count_at(target_slot(t, TG_TRAPPED), q);
+            }
+        }
+    }
+    if (front && scene[at + 18u] != 0u && (flags() & HIT_SUBSTRATE) == 0u) {
+        set_flags(flags() | HIT_SUBSTRATE);
+        count_at(target_slot(t, TG_DELIVERED), q);
+        tally(T_FIRST, q);
+        if (!stuck) {
+            tally(T_FIRST_REBOUND, q);
+        }
+    }
+    if (!front) {
+        return;
+    }
+    let first = scene[at + 16u];
+    atomicAdd(&cells[4u * (first + h.cell) + 2u], 1u);
+    mark(first + h.cell);
+    if (stuck) {
+        splat(at, first, h.cell, q);
+    }
+}
+
+// The deposit shared evenly over the footprint's cells inside the grid, the struck cell first.
+fn splat(at: u32, first: u32, cell: u32, q: vec2<u32>) {
+    let cols = i32(scene[at + 14u]);
+    let rows = i32(scene[at + 15u]);
+    let offsets = scene[at + 19u];
+    let count = scene[at + 20u];
+    let row = i32(cell) / cols;
+    let col = i32(cell) % cols;
+    var n = 0u;
+    for (var k = 0u; k < count; k++) {
+        let c = col + bitcast<i32>(scene[offsets + 2u * k]);
+        let r = row + bitcast<i32>(scene[offsets + 2u * k + 1u]);
+        n += select(0u, 1u, c >= 0 && c < cols && r >= 0 && r < rows);
+    }
+    var j = 0u;
+    for (var k = 0u; k < count; k++) {
+        let c = col + bitcast<i32>(scene[offsets + 2u * k]);
+        let r = row + bitcast<i32>(scene[offsets + 2u * k + 1u]);
+        if (c >= 0 && c < cols && r >= 0 && r < rows) {
+            deposit(first + u32(r * cols + c), share(q, n, j));
+            j++;
+        }
+    }
+}
+
+// One full step s: the impacts, then the checks for leaving the domain and expiring.
+fn full_step(s: u32) {
+    let q = quanta();
+    var x = vec3<f32>(P.x, P.y, P.z);
+    var v = vec3<f32>(P.vx, P.vy, P.vz);
+    var remaining = params.gravity_dt.w;
+    for (var k = 0u; k < params.seed.z; k++) {
+        let end = advance(x, v, remaining);
+        let h = first_hit(x, end.x);
+        if (h.t > 1.0) {
+            x = end.x;
+            v = end.v;
+            break;
+        }
+        P.status = (P.status & 0xf000u) | min(impacts() + 1u, MAX_IMPACTS);
+        var hit = h;
+        var v_in = mix(v, end.v, h.t);
+        if (h.cell != NO_CELL) {
+            // Entering a taller column from its side meets the side, not the layer's top: its
+            // normal opposes the motion along the face.
+            let along = v_in - h.normal * dot(v_in, h.normal);
+            if (dot(v_in, h.normal) >= 0.0 && dot(along, along) > 0.0) {
+                hit.normal = -normalize(along);
+            }
+        } else if (dot(v_in, h.normal) >= 0.0) {
+            let chord = end.x - x;
+            if (dot(chord, chord) > 0.0) {
+                v_in = normalize(chord) * length(v_in);
+            }
+        }
+        let res = impact(hit, v_in, q);
+        if (res.w == 0.0) {
+            P.x = h.point.x;
+            P.y = h.point.y;
+            P.z = h.point.z;
+            P.vx = 0.0;
+            P.vy = 0.0;
+            P.vz = 0.0;
+            return;
+        }
+        x = h.point + hit.normal * SURFACE_OFFSET;
+        v = res.xyz;
+        remaining *= 1.0 - h.t;
+    }
+    P.x = x.x;
+    P.y = x.y;
+    P.z = x.z;
+    P.vx = v.x;
+    P.vy = v.y;
+    P.vz = v.z;
+    let released = (flags() & RELEASED) != 0u;
+    let age = f32(s + 1u - P.born);
+    let left = any(x < params.min_drag.xyz) || any(x > params.max_life.xyz);
+    if (!left && age <= params.max_life.w && impacts() < MAX_IMPACTS) {
+        return;
+    }
+    var slot = T_EXPIRED;
+    if (released) {
+        slot = select(T_RELEASED_EXPIRED, T_RELEASED_LEFT, left);
+    } else if (impacts() == 0u) {
+        slot = T_OVERSPRAY;
+    } else if (left) {
+        slot = T_LEFT;
+    }
+    tally(slot, q);
+    set_flags(flags() & ~ALIVE);
+}
+
+@compute @workgroup_size(64)
+fn fly(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x + gid.y * params.seed.w;
+    if (i >= params.steps.z) {
+        return;
+    }
+    P = particles[i];
+    if ((flags() & ALIVE) == 0u) {
+        return;
+    }
+    var s = max(params.steps.x, P.born);
+    var steps = 0u;
+    while (s < params.steps.y && (flags() & ALIVE) != 0u) {
+        full_step(s);
+        s++;
+        steps++;
+    }
+    particles[i] = P;
+    add64(C_STEPS, vec2<u32>(steps, 0u));
+}
+
+// Copies each listed cell's deposit and impacts beside it and clears the cell for the next call.
+@compute @workgroup_size(64)
+fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x + gid.y * params.seed.w;
+    if (k >= atomicLoad(&counters[C_LISTED])) {
+        return;
+    }
+    let c = listed[4u * k];
+    listed[4u * k + 1u] = atomicExchange(&cells[4u * c], 0u);
+    listed[4u * k + 2u] = atomicExchange(&cells[4u * c + 1u], 0u);
+    listed[4u * k + 3u] = atomicExchange(&cells[4u * c + 2u], 0u);
+    atomicStore(&cells[4u * c + 3u], 0u);
+}

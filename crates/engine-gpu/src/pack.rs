@@ -1,0 +1,299 @@
+//! The job of a call laid out as the kernel reads it (see `flight.wgsl`, whose layouts these
+//! constants mirror): the parameters, one table of words for the impact models, targets, shapes
+//! and released volumes, the layers' thicknesses, and the particles.
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use spraysim_engine::collision::{Face, Shape};
+use spraysim_engine::deposit::Surface;
+use spraysim_engine::motion::Integrator;
+use spraysim_engine::particles::{Particle, flags};
+use spraysim_engine::pipeline::FlightJob;
+use spraysim_engine::process::{ImpactModel, ReboundForm};
+use spraysim_engine::world::Role;
+
+/// Words of one impact model.
+pub const MODEL_WORDS: usize = 64;
+/// Words of one target.
+pub const TARGET_WORDS: usize = 32;
+/// Words of one obstacle shape.
+pub const SHAPE_WORDS: usize = 16;
+/// Counter words before the per-target slots: particle-steps, the cells listed, a spare word,
+/// then 7 fates of 4 words.
+pub const TALLY_WORDS: usize = 4 + 4 * 7;
+/// Counter words per target (8 slots of 4) and per obstacle (3 slots of 4).
+pub const TARGET_COUNTER_WORDS: usize = 32;
+/// Counter words per obstacle.
+pub const OBSTACLE_COUNTER_WORDS: usize = 12;
+/// Invocations of one workgroup.
+pub const WORKGROUP: u32 = 64;
+/// Workgroups per dispatch row (the default limit per dimension is 65 535).
+pub const ROW_GROUPS: u32 = 32_768;
+
+/// The kernel's parameters (the WGSL `Params`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct Params {
+    /// g (m/s²), Δt (s).
+    pub gravity_dt: [f32; 4],
+    /// Domain minimum (m), quadratic drag k (1/m).
+    pub min_drag: [f32; 4],
+    /// Domain maximum (m), lifetime in steps.
+    pub max_life: [f32; 4],
+    /// First step, step after the last, particles, integrator.
+    pub steps: [u32; 4],
+    /// Seed (low, high), impacts per step, invocations per dispatch row.
+    pub seed: [u32; 4],
+    /// Targets, obstacle shapes, released particles, a nozzle particle's quanta.
+    pub sizes: [u32; 4],
+    /// Word offsets of the targets, shapes and released table; cells of all grids.
+    pub tables: [u32; 4],
+}
+
+/// One particle slot as the kernel keeps it: 36 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct GpuParticle {
+    /// Position, m.
+    pub x: [f32; 3],
+    /// Velocity, m/s.
+    pub v: [f32; 3],
+    /// Birth step.
+    pub born: u32,
+    /// Emission index.
+    pub id: u32,
+    /// Impacts (low 12 bits) and status bits (the next 4).
+    pub status: u32,
+}
+
+/// Bytes of GPU memory per particle slot.
+pub const BYTES_PER_SLOT: usize = std::mem::size_of::<GpuParticle>();
+
+impl GpuParticle {
+    /// The slot of `p`, at its position and velocity at the start of its next step.
+    pub fn of(p: &Particle, job: &FlightJob<'_>) -> GpuParticle {
+        let (x, v) = p.now(job.config.dt, job.config.motion.gravity);
+        GpuParticle {
+            x: x.as_vec3().to_array(),
+            v: v.as_vec3().to_array(),
+            born: p.born,
+            id: p.id,
+            status: u32::from(p.status),
+        }
+    }
+
+    /// `p` as this slot leaves it: anchored where the slot stands (re-anchored every step, as
+    /// the Euler integrators are).
+    pub fn update(&self, p: &Particle) -> Particle {
+        let mut q = *p;
+        q.anchor = glam::Vec3::from_array(self.x).as_dvec3();
+        q.velocity = glam::Vec3::from_array(self.v);
+        q.since = 0;
+        q.status = (self.status & 0xffff) as u16;
+        q
+    }
+}
+
+/// The words of a job's scene, and where each table starts.
+pub struct SceneWords {
+    /// Every table, one after the other.
+    pub words: Vec<u32>,
+    /// Word offsets of the targets, the shapes and the released table.
+    pub tables: [u32; 3],
+    /// Obstacle shapes.
+    pub shapes: u32,
+    /// Released particles in the table.
+    pub released: u32,
+    /// Per target, the first cell in the joined grids, and the cells in all grids.
+    pub first_cells: Vec<u32>,
+    /// Cells of all grids.
+    pub cells: u32,
+}
+
+fn put_f(w: &mut [u32], at: usize, x: f64) {
+    w[at] = (x as f32).to_bits();
+}
+
+fn put_v(w: &mut [u32], at: usize, v: DVec3) {
+    for k in 0..3 {
+        put_f(w, at + k, v[k]);
+    }
+}
+
+fn model_words(m: &ImpactModel) -> [u32; MODEL_WORDS] {
+    let mut w = [0u32; MODEL_WORDS];
+    put_f(&mut w, 0, m.alpha);
+    put_f(&mut w, 1, m.restitution);
+    put_f(&mut w, 2, m.scatter);
+    put_f(&mut w, 3, m.rest_speed);
+    put_f(&mut w, 4, m.rest_max_slope.cos());
+    put_f(&mut w, 5, m.cushion_radius);
+    let coefficients = |w: &mut [u32; MODEL_WORDS], c: &[f64]| {
+        w[7] = c.len() as u32;
+        for (k, &x) in c.iter().enumerate() {
+            put_f(w, 8 + k, x);
+        }
+    };
+    match m.rebound.form() {
+        ReboundForm::Always => w[6] = 0,
+        ReboundForm::Never | ReboundForm::Opaque => w[6] = 1,
+        ReboundForm::Polynomial(p) => {
+            w[6] = 2;
+            coefficients(&mut w, &p.coefficients);
+        }
+        ReboundForm::Cushion(c) => {
+            w[6] = 3;
+            coefficients(&mut w, &c.ricochet.coefficients);
+            put_f(&mut w, 16, c.aggregate_fraction);
+            put_f(&mut w, 17, c.capture_ratio);
+            put_f(&mut w, 18, c.trap_ratio);
+            w[19] = c.grading.len() as u32;
+            for (k, &(d, share)) in c.grading.iter().enumerate() {
+                put_f(&mut w, 20 + 2 * k, d);
+                put_f(&mut w, 21 + 2 * k, share);
+            }
+        }
+    }
+    w
+}
+
+fn face_words(w: &mut [u32], at: usize, f: &Face) {
+    put_v(w, at, f.center);
+    put_v(w, at + 3, f.normal);
+    put_v(w, at + 6, f.up);
+    put_v(w, at + 9, f.right);
+    put_f(w, at + 12, f.half_width);
+    put_f(w, at + 13, f.half_height);
+}
+
+fn shape_words(s: &Shape, owner: usize) -> [u32; SHAPE_WORDS] {
+    let mut w = [0u32; SHAPE_WORDS];
+    w[1] = owner as u32;
+    match s {
+        Shape::Plane(p) => {
+            w[0] = 0;
+            put_v(&mut w, 2, p.point);
+            put_v(&mut w, 5, p.normal);
+        }
+        Shape::Sphere(s) => {
+            w[0] = 1;
+            put_v(&mut w, 2, s.center);
+            put_f(&mut w, 5, s.radius);
+        }
+        Shape::Cylinder(c) => {
+            w[0] = 2;
+            put_v(&mut w, 2, c.a);
+            put_v(&mut w, 5, c.b);
+            put_f(&mut w, 8, c.radius);
+        }
+        Shape::Disk(d) => {
+            w[0] = 3;
+            put_v(&mut w, 2, d.center);
+            put_v(&mut w, 5, d.normal);
+            put_f(&mut w, 8, d.radius);
+        }
+        // Faces; the scope check has refused every other shape.
+        other => {
+            w[0] = 4;
+            if let Shape::Face(f) = other {
+                face_words(&mut w, 2, f);
+            }
+        }
+    }
+    w
+}
+
+/// Lays out the models, targets (with their footprints), shapes and released volumes of `job`.
+pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
+    let config = job.config;
+    let mut words = Vec::new();
+    for m in config.targets.iter().map(|t| &t.impact).chain(config.obstacles.iter().map(|o| &o.impact)) {
+        words.extend_from_slice(&model_words(m));
+    }
+    let targets_at = words.len();
+    words.resize(targets_at + TARGET_WORDS * job.targets.len(), 0);
+    let (mut first_cells, mut cells) = (Vec::new(), 0u32);
+    for (t, target) in job.targets.iter().enumerate() {
+        let at = targets_at + TARGET_WORDS * t;
+        first_cells.push(cells);
+        let Surface::Rectangle(r) = &target.surface else { continue };
+        let field = &r.field;
+        face_words(&mut words, at, &r.chart);
+        words[at + 14] = field.cols() as u32;
+        words[at + 15] = field.rows() as u32;
+        words[at + 16] = cells;
+        let top = field.max_thickness();
+        // The band the layer may fill (an upper bound of the thickest cell), rounded up to f32.
+        put_f(&mut words, at + 17, top * (1.0 + 1e-6) + 1e-9);
+        words[at + 18] = u32::from(target.role == Role::Substrate);
+        let offsets = words.len();
+        words[at + 19] = offsets as u32;
+        words[at + 20] = field.splat_offsets().len() as u32;
+        // The struck cell first, then the others in the footprint's order.
+        let splat = field.splat_offsets();
+        for &(i, j) in splat.iter().filter(|&&o| o == (0, 0)).chain(splat.iter().filter(|&&o| o != (0, 0))) {
+            words.push(i as i32 as u32);
+            words.push(j as i32 as u32);
+        }
+        cells += field.thickness().len() as u32;
+    }
+    let shapes_at = words.len();
+    let mut shapes = 0u32;
+    for (o, obstacle) in config.obstacles.iter().enumerate() {
+        for s in &obstacle.shapes {
+            words.extend_from_slice(&shape_words(s, o));
+            shapes += 1;
+        }
+    }
+    let released_at = words.len();
+    let mut released = 0u32;
+    for (p, &q) in job.particles.iter().zip(job.quanta) {
+        if p.flags() & flags::RELEASED != 0 {
+            words.extend_from_slice(&[p.id, q as u32, (q >> 32) as u32]);
+            released += 1;
+        }
+    }
+    // A storage binding may not be empty.
+    words.push(0);
+    SceneWords {
+        words,
+        tables: [targets_at as u32, shapes_at as u32, released_at as u32],
+        shapes,
+        released,
+        first_cells,
+        cells,
+    }
+}
+
+/// The layers' thicknesses of every target, joined, m.
+pub fn thicknesses(job: &FlightJob<'_>) -> Vec<f32> {
+    let mut out = Vec::new();
+    for t in job.targets {
+        if let Surface::Rectangle(r) = &t.surface {
+            out.extend(r.field.thickness().iter().map(|&x| x as f32));
+        }
+    }
+    out.push(0.0);
+    out
+}
+
+/// The parameters of `job` over `count` particles.
+pub fn params(job: &FlightJob<'_>, scene: &SceneWords, count: u32, nozzle_quanta: u32) -> Params {
+    let c = job.config;
+    let g = c.motion.gravity;
+    let integrator = match c.motion.integrator {
+        Integrator::Euler => 0,
+        Integrator::SemiImplicitEuler => 1,
+        Integrator::Exact => 2,
+    };
+    let (lo, hi) = (c.domain.min, c.domain.max);
+    Params {
+        gravity_dt: [g.x as f32, g.y as f32, g.z as f32, c.dt as f32],
+        min_drag: [lo.x as f32, lo.y as f32, lo.z as f32, c.motion.drag as f32],
+        max_life: [hi.x as f32, hi.y as f32, hi.z as f32, (c.material.max_lifetime / c.dt) as f32],
+        steps: [job.from as u32, job.to as u32, count, integrator],
+        seed: [c.seed as u32, (c.seed >> 32) as u32, c.max_impacts_per_step, WORKGROUP * ROW_GROUPS],
+        sizes: [job.targets.len() as u32, scene.shapes, scene.released, nozzle_quanta],
+        tables: [scene.tables[0], scene.tables[1], scene.tables[2], scene.cells],
+    }
+}

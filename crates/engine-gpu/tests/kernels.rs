@@ -1,0 +1,171 @@
+//! The flight kernel against closed forms, on random inputs with their boundary cases: forward
+//! Euler flights onto a wall (where they strike, and which miss its edges), and the 64-bit
+//! arithmetic of deposits shared over a footprint.
+
+mod common;
+
+use glam::DVec3;
+use spraysim_engine::collision::{Aabb, Face};
+use spraysim_engine::deposit::{DepositSurface, RectangleSurface, Surface, footprint_cells};
+use spraysim_engine::particles::{Particle, flags};
+use spraysim_engine::pipeline::{FlightJob, FlightStage};
+use spraysim_engine::process::rebound::NeverRebound;
+use spraysim_engine::{Simulation, SimulationConfig};
+use std::sync::Arc;
+
+/// A nozzle particle's volume, quanta.
+const NOZZLE: u64 = 1 << 24;
+
+/// The example wall (2 m × 2 m in the plane x = 0, facing −x, centred 1 m up) on which every
+/// impact sticks, with `splat_radius` (m), in a domain wide enough that nothing leaves it.
+fn sticky_wall(splat_radius: f64) -> SimulationConfig {
+    let mut c = SimulationConfig::example_wall(1.0);
+    let face = Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::NEG_X, DVec3::Z, [2.0, 2.0]);
+    c.targets[0].surface = Surface::Rectangle(RectangleSurface::new(face, 256, 256, splat_radius));
+    c.targets[0].splat_radius = Some(splat_radius);
+    c.targets[0].impact.rebound = Arc::new(NeverRebound);
+    c.domain = Aabb { min: DVec3::splat(-20.0), max: DVec3::splat(20.0) };
+    c
+}
+
+/// xorshift64*: the tests' own reproducible uniform draws in [0, 1).
+struct Draws(u64);
+
+impl Draws {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Where forward Euler (x += v Δt, then v += g Δt) from `x`, `v` first crosses the plane x = 0
+/// within `steps` steps of `dt`, in f64: the chord's crossing.
+fn euler_crossing(mut x: DVec3, mut v: DVec3, dt: f64, g: DVec3, steps: u32) -> Option<DVec3> {
+    for _ in 0..steps {
+        let x1 = x + v * dt;
+        if x.x < 0.0 && x1.x >= 0.0 {
+            return Some(x.lerp(x1, -x.x / (x1.x - x.x)));
+        }
+        x = x1;
+        v += g * dt;
+    }
+    None
+}
+
+/// Positions of an f32 flight of up to 400 steps over coordinates up to 2 m round off by up to
+/// 400 × 2 m × 2⁻²⁴ ≈ 5·10⁻⁵ m; points closer than twice that to an edge of the wall are not
+/// judged (either outcome is right within f32).
+const F32_REACH: f64 = 1e-4;
+
+#[test]
+fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_edges() {
+    let Some(gpu) = common::gpu() else { return };
+    let config = sticky_wall(0.0);
+    let sim = Simulation::new(config.clone()).expect("valid");
+    let (dt, g) = (config.dt, config.motion.gravity);
+    let mut draws = Draws(0x9e37_79b9_7f4a_7c15);
+    let mut particles = Vec::new();
+    for id in 0..4000u32 {
+        let start = DVec3::new(-0.3 - 1.2 * draws.next(), 2.0 * draws.next() - 1.0, 2.0 * draws.next());
+        // Aimed at a point over the wall and up to 0.2 m past its edges, gravity allowed for.
+        let aim = DVec3::new(0.0, 2.4 * draws.next() - 1.2, 2.4 * draws.next() - 0.2);
+        let time = 0.03 + 0.2 * draws.next();
+        let v = (aim - start) / time - 0.5 * g * time;
+        particles.push(Particle::new(start, v, 0, id, flags::ALIVE));
+    }
+    let quanta = vec![NOZZLE; particles.len()];
+    let job = FlightJob {
+        config: &config,
+        from: 0,
+        to: 400,
+        particles: &particles,
+        quanta: &quanta,
+        targets: sim.targets(),
+        revised: &[None],
+    };
+    let report = gpu.fly(&job).expect("the GPU flies the job");
+    let (mut judged, mut hits, mut near_edge) = (0, 0, 0);
+    for (p, q) in particles.iter().zip(&report.particles) {
+        let crossing = euler_crossing(p.anchor, p.anchor_velocity(), dt, g, 400);
+        let Some(point) = crossing else { continue };
+        let margin = (1.0 - point.y.abs()).min(1.0 - (point.z - 1.0).abs());
+        if margin.abs() < F32_REACH {
+            near_edge += 1;
+            continue;
+        }
+        judged += 1;
+        if margin > 0.0 {
+            hits += 1;
+            assert!(!q.is_alive(), "particle {} should have struck the wall at {point}", p.id);
+            let err = (q.anchor - point).length();
+            assert!(
+                err < 0.5 * F32_REACH,
+                "particle {}: struck {} from the closed form's {point}",
+                p.id,
+                err
+            );
+        } else {
+            assert_eq!(q.impacts(), 0, "particle {} passes {:.2e} m outside the edge", p.id, -margin);
+        }
+    }
+    assert!(judged > 3500 && hits > 2000 && hits < judged, "{judged} judged, {hits} hits");
+    let wall = &report.targets[0];
+    assert!(wall.stuck.count >= hits as u64 && wall.stuck.count <= (hits + near_edge) as u64);
+    assert_eq!(
+        wall.stuck.quanta,
+        u128::from(wall.stuck.count * NOZZLE),
+        "every stuck particle's volume, exactly"
+    );
+    let cells = &report.cells[0];
+    assert_eq!(cells.iter().map(|c| u64::from(c.hits)).sum::<u64>(), wall.hits);
+    assert_eq!(u128::from(cells.iter().map(|c| c.quanta).sum::<u64>()), wall.stuck.quanta);
+    assert!(cells.windows(2).all(|w| w[0].cell < w[1].cell), "cells listed once each, in order");
+}
+
+#[test]
+fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
+    let Some(gpu) = common::gpu() else { return };
+    let config = sticky_wall(0.02);
+    let sim = Simulation::new(config.clone()).expect("valid");
+    let footprint = footprint_cells((2.0 / 256.0, 2.0 / 256.0), 0.02) as u64;
+    assert!(footprint > 10, "a footprint of several cells, {footprint}");
+    // Released material carrying more than 2³² quanta, and nozzle particles, square onto the
+    // wall's middle and onto its corner (where the footprint is cut to a quarter).
+    let big = (1u64 << 33) + 12_345;
+    let shots = [
+        (DVec3::new(-0.5, 0.0039, 1.0039), flags::RELEASED, big),
+        (DVec3::new(-0.5, 0.999, 1.999), flags::RELEASED, big + 1),
+        (DVec3::new(-0.5, 0.3, 0.7), 0, NOZZLE),
+    ];
+    let particles: Vec<Particle> = shots
+        .iter()
+        .enumerate()
+        .map(|(k, &(x, bits, _))| {
+            Particle::new(x, DVec3::new(20.0, 0.0, 0.0), 0, k as u32, flags::ALIVE | bits)
+        })
+        .collect();
+    let quanta: Vec<u64> = shots.iter().map(|s| s.2).collect();
+    let job = FlightJob {
+        config: &config,
+        from: 0,
+        to: 100,
+        particles: &particles,
+        quanta: &quanta,
+        targets: sim.targets(),
+        revised: &[None],
+    };
+    let report = gpu.fly(&job).expect("the GPU flies the job");
+    let wall = &report.targets[0];
+    assert_eq!(wall.received.count, 2);
+    assert_eq!(wall.received.quanta, u128::from(2 * big + 1));
+    assert_eq!(wall.stuck.quanta, u128::from(NOZZLE));
+    let deposited: u128 = report.cells[0].iter().map(|c| u128::from(c.quanta)).sum();
+    assert_eq!(deposited, u128::from(2 * big + 1 + NOZZLE), "the footprints hold every quantum");
+    // Each cell of an interior footprint takes q / n, the struck one the remainder too.
+    let struck = sim.targets()[0].surface.cell_at(0, DVec3::new(0.0, 0.0039, 1.0039));
+    let took = |cell: u32| report.cells[0].iter().find(|c| c.cell == cell).map_or(0, |c| c.quanta);
+    assert_eq!(took(struck), big / footprint + big % footprint);
+    assert_eq!(took(struck + 1), big / footprint);
+}

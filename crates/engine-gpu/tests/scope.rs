@@ -1,0 +1,69 @@
+//! What the GPU backend refuses, naming the feature and its key, before a run starts.
+
+use spraysim_gpu::check;
+use spraysim_scenario::Scenario;
+use spraysim_scenario::scenes::{NOZZLE_AT_WALL, scenario, wall};
+
+fn refusal(sc: &Scenario) -> String {
+    match check(&sc.config()) {
+        Ok(()) => panic!("the GPU backend accepted a scenario outside its scope"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn the_default_scene_and_the_processes_without_erosion_lie_in_scope() {
+    assert_eq!(check(&Scenario::default_scene().config()), Ok(()));
+    let painting = Scenario::default_scene().with("process.preset", "painting").expect("valid");
+    assert_eq!(check(&painting.config()), Ok(()));
+}
+
+#[test]
+fn features_outside_the_scope_are_refused_by_name_and_key() {
+    let cases: [(Scenario, &str, &str); 5] = [
+        (
+            scenario(
+                &format!(
+                    "{NOZZLE_AT_WALL}{}",
+                    wall().with("[[target.opening]]\ncenter = [0.0, 0.0]\nsize = [0.4, 0.4]")
+                ),
+                "opening",
+            ),
+            "openings",
+            "target[0] `wall`.opening",
+        ),
+        (
+            Scenario::default_scene().with("process.erosion.model", "finnie").expect("valid"),
+            "erosion",
+            ".erosion",
+        ),
+        (
+            Scenario::default_scene().with("output.impact_log", 0.5).expect("valid"),
+            "impact log",
+            "output.impact_log",
+        ),
+        (
+            Scenario::default_scene()
+                .with_all(&[
+                    ("process.preset".into(), "painting".into()),
+                    ("process.gun".into(), "hvlp".into()),
+                ])
+                .expect("valid"),
+            "the gun's air",
+            "air.model",
+        ),
+        (
+            scenario(
+                "[[target]]\nname = \"pipe\"\nshape = \"cylinder\"\ncenter = [0.5, 0.0, 1.0]\naxis = [0.0, 0.0, 1.0]\nradius = 0.3\nlength = 1.0\n",
+                "shell",
+            ),
+            "cylinder-shell targets",
+            "target[0] `pipe`.shape",
+        ),
+    ];
+    for (sc, feature, key) in cases {
+        let message = refusal(&sc);
+        assert!(message.contains(feature) && message.contains(key), "{message}");
+        assert!(message.contains("CPU backend"), "{message}");
+    }
+}

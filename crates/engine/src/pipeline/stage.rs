@@ -1,0 +1,195 @@
+//! The flight stage's seam: another backend (the GPU's kernels, `spraysim-gpu`) may fly the
+//! particles of a call in place of the engine's parallel region, given the same inputs, and
+//! hand back what they did as plain data: their states at the call's end, the fates and impacts
+//! in integer quanta, and per target the cells whose deposits and impacts changed.
+//!
+//! The rest of the epoch is the engine's either way: the schedule of the births, the booking,
+//! the settling of the layers and the layer stages at their intervals. A call whose impacts
+//! must be gathered as events (an impact log, an observer that wants impacts) flies on the
+//! engine's own flight, which alone gathers them, as does a call the stage declines.
+
+use super::emit::Births;
+use super::kernel::Books;
+use super::{Plan, State, Workers};
+use crate::config::SimulationConfig;
+use crate::deposit::DepositSurface;
+use crate::particles::Particle;
+use crate::tally::Tally;
+use crate::world::{ObstacleTally, Target, TargetTally};
+use rayon::prelude::*;
+
+/// A backend that flies the particles of a call (see the module's docs).
+///
+/// Implementations must be deterministic: the same job gives the same report. They fly each
+/// particle through the job's steps against the layers as they stood at the call's start, with
+/// the configuration's motion, impact models and domain; what they do not model they must
+/// decline (an error) rather than approximate silently.
+pub trait FlightStage: Send + Sync + std::fmt::Debug {
+    /// Flies `job`; an error leaves the call to the engine's own flight, and the simulation
+    /// keeps the message (see [`crate::Simulation::flight_stage_error`]).
+    fn fly(&self, job: &FlightJob<'_>) -> Result<FlightReport, String>;
+
+    /// What runs the flights, for summaries: for a GPU, the adapter's name and driver.
+    fn describe(&self) -> String;
+
+    /// Where the calls' time went since this was last asked, in words, for benchmarks; `None`
+    /// (the default) where the stage does not keep track.
+    fn profile(&self) -> Option<String> {
+        None
+    }
+}
+
+/// The particles of one call and what they fly through.
+#[derive(Clone, Copy, Debug)]
+pub struct FlightJob<'a> {
+    /// The run's resolved parameters.
+    pub config: &'a SimulationConfig,
+    /// The call's first step.
+    pub from: u64,
+    /// The step after its last: every particle flies to the start of step `to`.
+    pub to: u64,
+    /// The particles in flight, by increasing id: those of the swarm (from step `from`), then
+    /// the newborns of the call's steps (each from its birth step, [`Particle::born`]).
+    pub particles: &'a [Particle],
+    /// The volume each particle carries, quanta of [`SimulationConfig::volume_quantum`], in
+    /// the same order.
+    pub quanta: &'a [u64],
+    /// The targets, with their layers as they stood at the call's start.
+    pub targets: &'a [Target],
+    /// Per target, the identity of its layer and the cells whose thickness changed since the
+    /// previous call given to a stage (see [`crate::deposit::HeightField::take_revised`]);
+    /// `None` for a mesh. A stage that keeps a copy of the layers brings it up to date from
+    /// these where it holds the same identity, and copies the whole layer otherwise; a stage
+    /// that fails a call must forget its copy, whose changes are lost with the call.
+    pub revised: &'a [Option<(u64, Vec<u32>)>],
+}
+
+/// What a [`FlightJob`]'s particles did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlightReport {
+    /// Each particle of the job, in its order, as it stands at the call's end: still in flight
+    /// (alive), or retired (stuck, left, expired).
+    pub particles: Vec<Particle>,
+    /// Fates and first substrate impacts (its `emitted`, `released`, `dripped` and `ran_off`
+    /// stay zero: the engine books those).
+    pub tally: Tally,
+    /// What struck each target, in the configuration's order.
+    pub targets: Vec<TargetTally>,
+    /// What struck each obstacle, in the configuration's order.
+    pub obstacles: Vec<ObstacleTally>,
+    /// Per target, the cells that gathered deposit or impacts, each once.
+    pub cells: Vec<Vec<CellBook>>,
+    /// Particle-steps flown.
+    pub steps: u64,
+    /// Of those, steps searched in full for hits.
+    pub updates: u64,
+}
+
+/// What one cell of a target gathered in a call.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CellBook {
+    /// The cell's index in its target's grid.
+    pub cell: u32,
+    /// Deposited volume, quanta.
+    pub quanta: u64,
+    /// Impacts on it, stuck or rebounded.
+    pub hits: u32,
+}
+
+/// What a call flown by a stage hands to booking: the books, the newborns still in flight (in
+/// id order) and how many particles of the swarm left flight.
+pub(super) type Flown = (Books, Vec<Vec<Particle>>, usize);
+
+/// Flies the call's particles on `stage`: on success the swarm's particles take their new
+/// states and the flight's books are returned; on an error nothing has changed.
+pub(super) fn fly(
+    stage: &dyn FlightStage,
+    config: &SimulationConfig,
+    plan: &Plan,
+    state: &mut State,
+    workers: &Workers,
+    (from, to): (u64, u64),
+    births: &[Births],
+) -> Result<Flown, String> {
+    let newborns = newborns(config, plan, workers, births);
+    let mut particles: Vec<Particle> =
+        state.swarm.particles.iter().filter(|p| p.is_alive()).copied().collect();
+    particles.extend_from_slice(&newborns);
+    let volumes = &state.swarm.volumes;
+    let quanta = |p: &Particle| volumes.of(p.id, p.flags());
+    let quanta: Vec<u64> = if workers.parallel() {
+        workers.install(|| particles.par_iter().map(quanta).collect())
+    } else {
+        particles.iter().map(quanta).collect()
+    };
+    let revised: Vec<Option<(u64, Vec<u32>)>> =
+        state.targets.iter_mut().map(|t| t.surface.take_revised()).collect();
+    let job = FlightJob {
+        config,
+        from,
+        to,
+        particles: &particles,
+        quanta: &quanta,
+        targets: &state.targets,
+        revised: &revised,
+    };
+    let report = stage.fly(&job)?;
+    check(&report, &job)?;
+    let (nt, no) = (state.targets.len(), state.obstacles.len());
+    let mut books = Books::new(nt, no);
+    books.tally = report.tally;
+    books.targets = report.targets;
+    books.obstacles = report.obstacles;
+    books.steps = report.steps;
+    books.updates = report.updates;
+    for ((target, cells), touched) in state.targets.iter().zip(&report.cells).zip(&mut books.touched) {
+        for c in cells {
+            target.pending.deposit(c.cell, c.quanta, touched);
+            target.pending.impacts(c.cell, c.hits, touched);
+        }
+    }
+    let mut flown = report.particles.into_iter();
+    let mut retired = 0;
+    for p in state.swarm.particles.iter_mut().filter(|p| p.is_alive()) {
+        if let Some(q) = flown.next() {
+            retired += usize::from(!q.is_alive());
+            *p = q;
+        }
+    }
+    let born: Vec<Particle> = flown.filter(Particle::is_alive).collect();
+    Ok((books, vec![born], retired))
+}
+
+/// Refuses a report that does not answer its job: a particle lost or out of order, a cell
+/// outside its grid, or tallies for other targets and obstacles.
+fn check(report: &FlightReport, job: &FlightJob<'_>) -> Result<(), String> {
+    let same = report.particles.len() == job.particles.len()
+        && report.particles.iter().zip(job.particles).all(|(a, b)| a.id == b.id);
+    if !same {
+        return Err("the flight stage handed back other particles than it was given".into());
+    }
+    let (nt, no) = (job.targets.len(), job.config.obstacles.len());
+    if report.targets.len() != nt || report.obstacles.len() != no || report.cells.len() != nt {
+        return Err("the flight stage handed back tallies for other targets or obstacles".into());
+    }
+    for (target, cells) in job.targets.iter().zip(&report.cells) {
+        let n = target.surface.thickness().len();
+        if cells.iter().any(|c| c.cell as usize >= n) {
+            return Err(format!("the flight stage booked a cell outside target `{}`", target.name));
+        }
+    }
+    Ok(())
+}
+
+/// The newborns of `births`, in id order, each sampled from its own stream (in parallel
+/// where the workers are).
+fn newborns(config: &SimulationConfig, plan: &Plan, workers: &Workers, births: &[Births]) -> Vec<Particle> {
+    let sampler = config.emitter.sampler();
+    let batch = |b: &Births| (0..b.count).map(|k| b.particle(k, &sampler, plan.key)).collect::<Vec<_>>();
+    let batches: Vec<Vec<Particle>> = if workers.parallel() {
+        workers.install(|| births.par_iter().map(batch).collect())
+    } else {
+        births.iter().map(batch).collect()
+    };
+    batches.concat()
+}

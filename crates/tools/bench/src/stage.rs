@@ -1,0 +1,162 @@
+//! The rows of `spraysim bench --backend gpu`: the reference scene, the 60 s raster and the
+//! short variants with their particles flown on another backend's flight stage (the GPU's),
+//! beside the CPU's reference row, each with the share of its wall time spent in the stage (its
+//! uploads, kernels and read-backs) and the rest (births, booking, layers and their stages, on
+//! the CPU).
+
+use crate::{
+    BenchError, MatrixSettings, ReferenceScene, measure_median_on, measure_on, paper_baseline, raster_pass,
+};
+use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// A flight stage that adds up the time its calls take.
+#[derive(Debug)]
+pub struct Timed {
+    inner: Arc<dyn FlightStage>,
+    nanos: AtomicU64,
+    calls: AtomicU64,
+}
+
+impl Timed {
+    /// `inner`, timed.
+    pub fn new(inner: Arc<dyn FlightStage>) -> Timed {
+        Timed { inner, nanos: AtomicU64::new(0), calls: AtomicU64::new(0) }
+    }
+
+    /// Seconds spent in the stage and calls made since the last `take`, which zeroes them.
+    pub fn take(&self) -> (f64, u64) {
+        (self.nanos.swap(0, Ordering::Relaxed) as f64 * 1e-9, self.calls.swap(0, Ordering::Relaxed))
+    }
+}
+
+impl FlightStage for Timed {
+    fn fly(&self, job: &FlightJob<'_>) -> Result<FlightReport, String> {
+        let start = Instant::now();
+        let report = self.inner.fly(job);
+        self.nanos.fetch_add(start.elapsed().as_nanos() as u64, Ordering::Relaxed);
+        self.calls.fetch_add(1, Ordering::Relaxed);
+        report
+    }
+
+    fn describe(&self) -> String {
+        self.inner.describe()
+    }
+
+    fn profile(&self) -> Option<String> {
+        self.inner.profile()
+    }
+}
+
+/// Writes the stage's own account of where its time went since the last one, if it keeps one.
+fn profile(stage: &Arc<dyn FlightStage>, out: &mut impl std::io::Write) -> Result<(), BenchError> {
+    if let Some(p) = stage.profile() {
+        writeln!(out, "  (stage: {p})")?;
+    }
+    Ok(())
+}
+
+/// Runs `count` short variants of the reference scene (0.2 s each, one seed each) one after the
+/// other on `stage`, each set up on the previous one's broad phase and reduced to its metrics;
+/// returns variants per second.
+pub fn short_variants_on(count: usize, stage: &Arc<dyn FlightStage>) -> Result<f64, BenchError> {
+    let base = ReferenceScene { duration: 0.2, ..ReferenceScene::default() }.scenario()?;
+    let mut sim = base.build()?;
+    sim.set_flight_stage(Some(stage.clone()));
+    let start = Instant::now();
+    let mut emitted = 0;
+    for i in 0..count {
+        base.with("simulation.seed", i as i64)?.rebuild(&mut sim)?;
+        sim.run(|_| {});
+        emitted += sim.metrics().emitted.count;
+    }
+    let wall = start.elapsed().as_secs_f64();
+    if emitted == 0 {
+        return Err(BenchError::Settings("the short variants emitted nothing".into()));
+    }
+    Ok(count as f64 / wall)
+}
+
+/// Times the reference scene on the CPU (every thread) and on `stage`, then the raster and the
+/// short variants on `stage`, as a Markdown table with the stage's share of each wall time.
+pub fn run_stage_rows(
+    stage: Arc<dyn FlightStage>,
+    m: &MatrixSettings,
+    out: &mut impl std::io::Write,
+) -> Result<(), BenchError> {
+    m.check()?;
+    let all = m.thread_counts().into_iter().max().unwrap_or(1);
+    let timed = Arc::new(Timed::new(stage));
+    let on: Arc<dyn FlightStage> = timed.clone();
+    writeln!(out, "flight stage: {}\n", on.describe())?;
+    let paper = paper_baseline(m, out)?;
+    let reference =
+        ReferenceScene { spawn_rate: m.spawn_rate, duration: m.duration, ..ReferenceScene::default() }
+            .scenario()?;
+    writeln!(
+        out,
+        "reference scene, {:.0} particles/s for {} s; each reference row the median of {} timed runs after a warm-up\n",
+        m.spawn_rate, m.duration, m.repeats
+    )?;
+    writeln!(
+        out,
+        "| run | wall [s] | particles/s to fate | × paper baseline | × CPU | in the stage | stage calls |"
+    )?;
+    writeln!(out, "|---|---:|---:|---:|---:|---:|---:|")?;
+    let cpu = measure_median_on(&reference, all, m.repeats, None)?;
+    writeln!(
+        out,
+        "| reference, CPU, {all} threads | {:.4} | {:.3e} | {:.1} | 1 | — | — |",
+        cpu.wall,
+        cpu.particles_per_second(),
+        cpu.particles_per_second() / paper
+    )?;
+    // A warm-up, then each timed run with the stage's time within it.
+    let s = reference.simulation();
+    measure_on(&reference.with("simulation.duration", (0.1 * s.duration).max(s.dt))?, all, Some(&on))?;
+    timed.take();
+    let mut runs = Vec::new();
+    for _ in 0..m.repeats.max(1) {
+        let r = measure_on(&reference, all, Some(&on))?;
+        runs.push((r, timed.take()));
+    }
+    let (gpu, (inside, calls)) =
+        crate::median_by(runs, |r| r.0.wall).ok_or_else(|| BenchError::Settings("no timed run".into()))?;
+    writeln!(
+        out,
+        "| reference, stage | {:.4} | {:.3e} | {:.1} | {:.2} | {:.0} % | {calls} |",
+        gpu.wall,
+        gpu.particles_per_second(),
+        gpu.particles_per_second() / paper,
+        gpu.particles_per_second() / cpu.particles_per_second(),
+        100.0 * inside / gpu.wall,
+    )?;
+    profile(&on, out)?;
+    let raster = measure_on(&raster_pass(1e5)?, all, Some(&on))?;
+    let (inside, calls) = timed.take();
+    writeln!(
+        out,
+        "| 60 s raster at 10⁵ particles/s, cohesion every 0.5 s, stage | {:.3} | {:.3e} | {:.0} | — | {:.0} % | {calls} |",
+        raster.wall,
+        raster.particles_per_second(),
+        raster.particles_per_second() / paper,
+        100.0 * inside / raster.wall
+    )?;
+    profile(&on, out)?;
+    let variants = m.variants.max(1);
+    let per_second = short_variants_on(variants, &on)?;
+    let (inside, calls) = timed.take();
+    writeln!(
+        out,
+        "\n{variants} short variants of the reference scene (0.2 s each, one seed each, one after the other on the stage): {per_second:.1} per second, {:.0} % of the time in the stage ({calls} calls)",
+        100.0 * inside * per_second / variants as f64
+    )?;
+    profile(&on, out)?;
+    writeln!(
+        out,
+        "batches of 16 and 64 scenes in one dispatch: not run (this version dispatches each scene's calls on their own)"
+    )?;
+    Ok(())
+}
