@@ -146,11 +146,12 @@ impl GpuFlight {
 
     /// Runs `job` on the GPU.
     fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
-        scope::check(job.config)?;
         let start = Instant::now();
         let mut b = self.buffers.lock().map_err(|_| GpuError::Device("a previous call failed".into()))?;
-        // Forgotten until the call succeeds: a failed call loses the layers' changes it took.
+        // Forgotten until the call succeeds: a call that fails, or is refused, loses the layers'
+        // changes the engine handed it.
         let held = std::mem::take(&mut b.mirror);
+        scope::check(job.config)?;
         let scene = pack::scene_words(job);
         let nozzle = job
             .particles
@@ -404,7 +405,8 @@ fn report(
                 delivered: s(4),
                 stuck_back: s(5),
                 received: s(6),
-                received_back: Quanta::from(w[at + 29]) | (Quanta::from(w[at + 30]) << 32),
+                // A volume alone: its low and high words start the slot.
+                received_back: Quanta::from(w[at + 28]) | (Quanta::from(w[at + 29]) << 32),
                 detached: Tallied::default(),
             }
         })

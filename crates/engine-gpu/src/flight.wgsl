@@ -450,19 +450,19 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
                 break;
             }
         }
+        if (side) {
+            // Met at half a cell back along the path (within it): outside the taller column,
+            // over the one it came down.
+            let cells = vec2<f32>(2.0 * hw / f32(scene[at + 14u]), 2.0 * hh / f32(scene[at + 15u]));
+            let along = length(d - n * dot(d, n));
+            s = max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
+        }
         if (s <= 1.0) {
             let q = p0 + d * s;
             let u = dot(q - c, right);
             let v = dot(q - c, up);
             if (abs(u) <= hw && abs(v) <= hh) {
-                var came = q;
-                if (side) {
-                    // Half a cell back along the path, within it.
-                    let cells = vec2<f32>(2.0 * hw / f32(scene[at + 14u]), 2.0 * hh / f32(scene[at + 15u]));
-                    let along = length(d - n * dot(d, n));
-                    came = p0 + d * max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
-                }
-                h = Hit(s, q, n, t, cell_at(at, dot(came - c, right), dot(came - c, up)));
+                h = Hit(s, q, n, t, cell_at(at, u, v));
             }
         }
     } else if (h0 < 0.0 && h1 >= 0.0) {
@@ -554,6 +554,9 @@ fn grain(model: u32, m: f32) -> f32 {
     }
     let g = model + 20u;
     let n = scene[model + 19u];
+    if (n < 2u) {
+        return f(g);
+    }
     let qq = min(q, 1.0);
     // The first sieve whose passing share exceeds q, clamped to [1, n - 1].
     var k = 1u;

@@ -56,7 +56,7 @@ mod scope;
 pub use device::{Gpu, GpuOptions};
 pub use flight::{GpuFlight, Profile};
 pub use pack::BYTES_PER_SLOT;
-pub use scope::{MAX_COEFFICIENTS, MAX_IMPACTS_PER_STEP, MAX_SIEVES, Unsupported, check};
+pub use scope::{MAX_COEFFICIENTS, MAX_FOOTPRINT, MAX_IMPACTS_PER_STEP, MAX_SIEVES, Unsupported, check};
 pub use spraysim_engine::pipeline::FlightStage;
 
 /// Why the GPU backend cannot run.

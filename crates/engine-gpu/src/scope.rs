@@ -10,6 +10,8 @@ use spraysim_engine::process::{ImpactModel, ReboundForm};
 pub const MAX_COEFFICIENTS: usize = 8;
 /// Most sieves of the cushion law's grading curve.
 pub const MAX_SIEVES: usize = 16;
+/// Most cells of a deposit footprint: the kernel shares a deposit over them in 16-bit steps.
+pub const MAX_FOOTPRINT: usize = (1 << 16) - 1;
 /// Most impacts a particle may resolve within one step.
 pub const MAX_IMPACTS_PER_STEP: u32 = 64;
 
@@ -46,6 +48,12 @@ pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
     for (i, t) in config.targets.iter().enumerate() {
         let key = format!("target[{i}] `{}`", t.name);
         match &t.surface {
+            Surface::Rectangle(r) if r.field.splat_offsets().len() > MAX_FOOTPRINT => {
+                return refuse(
+                    format!("a deposit footprint of more than {MAX_FOOTPRINT} cells"),
+                    format!("{key}.splat_radius"),
+                );
+            }
             Surface::Rectangle(r) if r.openings().is_empty() => {}
             Surface::Rectangle(_) => return refuse("openings in a target", format!("{key}.opening")),
             Surface::Cylinder(_) => return refuse("cylinder-shell targets", format!("{key}.shape")),

@@ -132,18 +132,21 @@ fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
     let footprint = footprint_cells((2.0 / 256.0, 2.0 / 256.0), 0.02) as u64;
     assert!(footprint > 10, "a footprint of several cells, {footprint}");
     // Released material carrying more than 2³² quanta, and nozzle particles, square onto the
-    // wall's middle and onto its corner (where the footprint is cut to a quarter).
+    // wall's middle and onto its corner (where the footprint is cut to a quarter), and released
+    // material onto its back (which takes no deposit).
     let big = (1u64 << 33) + 12_345;
     let shots = [
         (DVec3::new(-0.5, 0.0039, 1.0039), flags::RELEASED, big),
         (DVec3::new(-0.5, 0.999, 1.999), flags::RELEASED, big + 1),
         (DVec3::new(-0.5, 0.3, 0.7), 0, NOZZLE),
+        (DVec3::new(0.5, -0.3, 1.2), flags::RELEASED, big + 2),
     ];
     let particles: Vec<Particle> = shots
         .iter()
         .enumerate()
         .map(|(k, &(x, bits, _))| {
-            Particle::new(x, DVec3::new(20.0, 0.0, 0.0), 0, k as u32, flags::ALIVE | bits)
+            let towards_the_wall = DVec3::new(-20.0 * x.x.signum(), 0.0, 0.0);
+            Particle::new(x, towards_the_wall, 0, k as u32, flags::ALIVE | bits)
         })
         .collect();
     let quanta: Vec<u64> = shots.iter().map(|s| s.2).collect();
@@ -158,8 +161,9 @@ fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
     };
     let report = gpu.fly(&job).expect("the GPU flies the job");
     let wall = &report.targets[0];
-    assert_eq!(wall.received.count, 2);
-    assert_eq!(wall.received.quanta, u128::from(2 * big + 1));
+    assert_eq!(wall.received.count, 3);
+    assert_eq!(wall.received.quanta, u128::from(3 * big + 3));
+    assert_eq!(wall.received_back, u128::from(big + 2), "the back's share, to the quantum");
     assert_eq!(wall.stuck.quanta, u128::from(NOZZLE));
     let deposited: u128 = report.cells[0].iter().map(|c| u128::from(c.quanta)).sum();
     assert_eq!(deposited, u128::from(2 * big + 1 + NOZZLE), "the footprints hold every quantum");

@@ -11,22 +11,23 @@ use spraysim::{Scenario, Simulation};
 pub const BUILD_GPU: &str = "build the command with `cargo build --release -p spraysim-cli --features gpu`";
 
 /// Sets `sim`'s flight stage as `scenario`'s backend asks and returns what runs the flights, in
-/// words. `gpu` is refused, naming why, where the build, the adapter or the scenario does not
-/// allow it; `auto` then runs on the CPU and says why in one line on stderr.
-pub fn attach(sim: &mut Simulation, scenario: &Scenario) -> Result<String> {
+/// words, where it is not the CPU. `gpu` is refused, naming why, where the build, the adapter or
+/// the scenario does not allow it; `auto` then runs on the CPU and says why in one line on
+/// stderr.
+pub fn attach(sim: &mut Simulation, scenario: &Scenario) -> Result<Option<String>> {
     let backend = scenario.simulation().backend;
     if backend == Backend::Cpu {
-        return Ok("CPU".into());
+        return Ok(None);
     }
     match gpu_stage(scenario) {
         Ok(stage) => {
             let name = format!("GPU ({})", stage.describe());
             sim.set_flight_stage(Some(stage));
-            Ok(name)
+            Ok(Some(name))
         }
         Err(e) if backend == Backend::Auto => {
             eprintln!("backend \"auto\": running on the CPU: {e:#}");
-            Ok("CPU".into())
+            Ok(None)
         }
         Err(e) => Err(e.context("backend \"gpu\" (simulation.backend)")),
     }

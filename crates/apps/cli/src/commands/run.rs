@@ -58,7 +58,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     // A new run replaces the directory's run: an earlier run's checkpoint no longer applies.
     checkpoint::remove_checkpoint(&dir);
     dir.record_run(&scenario.to_toml())?;
-    execute(scenario, sim, &dir, (every, recorder), (args.quiet, args.strict), &backend)
+    execute(scenario, sim, &dir, (every, recorder), (args.quiet, args.strict), backend.as_deref())
 }
 
 /// Continues the run whose checkpoint is in `args.dir`.
@@ -87,20 +87,21 @@ pub fn resume(args: &ResumeArgs) -> Result<()> {
         say!("resuming at t = {:.3} s of {} s", sim.time(), scenario.simulation().duration);
     }
     let every = (ck.every_steps > 0).then_some(ck.every_steps);
-    execute(&scenario, sim, &dir, (every, recorder), (quiet, false), &backend)
+    execute(&scenario, sim, &dir, (every, recorder), (quiet, false), backend.as_deref())
 }
 
 /// Steps `sim` to its end or to an interrupt, with checkpoints every `every` steps and the 3D
 /// views `recorder` draws, and writes its outputs, views included, into `dir` as one set; its
 /// sanity warnings go into the summary (to stderr when `quiet`), and with `strict` make an
-/// error once the outputs are written. `backend` says what flew the particles.
+/// error once the outputs are written. `backend` says what flew the particles, where it was not
+/// the CPU.
 fn execute(
     scenario: &Scenario,
     mut sim: Simulation,
     dir: &OutputDir,
     (every, mut recorder): (Option<u64>, Recorder),
     (quiet, strict): (bool, bool),
-    backend: &str,
+    backend: Option<&str>,
 ) -> Result<()> {
     control::watch_interrupts()?;
     let save = |sim: &Simulation, k: u64| {
@@ -163,7 +164,9 @@ fn execute(
         print_warnings(&warnings);
     } else {
         crate::summary::print(&metrics, scenario, &warnings, wall)?;
-        say!("particles flown on: {backend}");
+        if let Some(backend) = backend {
+            say!("particles flown on: {backend}");
+        }
         say!("wrote {} files to {}", files.len(), dir.path().display());
     }
     if !completed {
