@@ -130,13 +130,7 @@ impl GpuFlight {
     pub fn read_layers(&self) -> Result<Vec<f32>, GpuError> {
         let mut b = self.buffers.lock().map_err(|_| GpuError::Device("a previous call failed".into()))?;
         let layer = some(&b.thickness)?.clone();
-        let bytes = layer.size();
-        let readback = grow(&self.gpu.device, &mut b.readback, bytes, READBACK);
-        let mut encoder =
-            self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encoder.copy_buffer_to_buffer(&layer, 0, &readback, 0, bytes);
-        self.gpu.queue.submit([encoder.finish()]);
-        Ok(bytemuck::cast_slice(&self.read(&readback, bytes)?).to_vec())
+        Ok(bytemuck::cast_slice(&self.copy_out(&mut b, &layer, layer.size())?).to_vec())
     }
 
     /// Where the calls' time went since the last call of this, which starts the sums afresh.
@@ -302,14 +296,19 @@ impl GpuFlight {
         if count == 0 {
             return Ok(Vec::new());
         }
-        let bytes = 16 * u64::from(count);
+        let listed = some(&b.listed)?.clone();
+        let data = self.copy_out(b, &listed, 16 * u64::from(count))?;
+        Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
+    }
+
+    /// The first `bytes` of `source`, copied through the read-back buffer.
+    fn copy_out(&self, b: &mut Buffers, source: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuError> {
         let readback = grow(&self.gpu.device, &mut b.readback, bytes, READBACK);
         let mut encoder =
             self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encoder.copy_buffer_to_buffer(some(&b.listed)?, 0, &readback, 0, bytes);
+        encoder.copy_buffer_to_buffer(source, 0, &readback, 0, bytes);
         self.gpu.queue.submit([encoder.finish()]);
-        let data = self.read(&readback, bytes)?;
-        Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
+        self.read(&readback, bytes)
     }
 
     /// Waits for the queue and copies the first `bytes` of `readback` out.

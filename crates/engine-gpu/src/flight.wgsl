@@ -103,10 +103,9 @@ fn add64(at: u32, q: vec2<u32>) {
     }
 }
 
+// Counts one particle of `q` quanta in the run's fate `slot`.
 fn tally(slot: u32, q: vec2<u32>) {
-    let at = C_TALLY + 4u * slot;
-    atomicAdd(&counters[at], 1u);
-    add64(at + 1u, q);
+    count_at(C_TALLY + 4u * slot, q);
 }
 
 fn target_slot(t: u32, slot: u32) -> u32 {
@@ -117,6 +116,7 @@ fn obstacle_slot(o: u32, slot: u32) -> u32 {
     return C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * params.sizes.x + OBSTACLE_SLOTS * o + slot);
 }
 
+// Counts one particle of `q` quanta in the slot at counter word `at` (count, low, high).
 fn count_at(at: u32, q: vec2<u32>) {
     atomicAdd(&counters[at], 1u);
     add64(at + 1u, q);
@@ -372,6 +372,12 @@ fn cylinder_hit(a: vec3<f32>, b: vec3<f32>, r: f32, p0: vec3<f32>, p1: vec3<f32>
     return best;
 }
 
+// In-face coordinates of `q` on the target at `at`: m from its centre along its right and up.
+fn face_uv(at: u32, q: vec3<f32>) -> vec2<f32> {
+    let off = q - v3(at);
+    return vec2<f32>(dot(off, v3(at + 9u)), dot(off, v3(at + 6u)));
+}
+
 // A target's grid: the cell of in-face coordinates (u, v) (m from its centre), clamped to it.
 fn cell_at(at: u32, u: f32, v: f32) -> u32 {
     let cols = scene[at + 14u];
@@ -390,8 +396,6 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let at = params.tables.x + TARGET_WORDS * t;
     let c = v3(at);
     let n = v3(at + 3u);
-    let up = v3(at + 6u);
-    let right = v3(at + 9u);
     let hw = f(at + 12u);
     let hh = f(at + 13u);
     let first = scene[at + 16u];
@@ -399,26 +403,19 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let h0 = dot(p0 - c, n);
     let h1 = dot(p1 - c, n);
     let d = p1 - p0;
-    var h = no_hit();
     var own = 0.0;
-    if (h0 > 0.0 && h0 <= top) {
-        let u0 = dot(p0 - c, right);
-        let v0 = dot(p0 - c, up);
-        if (abs(u0) <= hw && abs(v0) <= hh) {
-            own = thickness[first + cell_at(at, u0, v0)];
-        }
+    let uv0 = face_uv(at, p0);
+    if (h0 > 0.0 && h0 <= top && abs(uv0.x) <= hw && abs(uv0.y) <= hh) {
+        own = thickness[first + cell_at(at, uv0.x, uv0.y)];
     }
+    // The fraction of the path at which it meets the target, and on which side.
+    var s = NONE;
+    var front = true;
     if (h0 > 0.0 && h0 <= own) {
         // Starting inside the layer, a path enters it only after leaving it: within one step it
         // meets only the bare surface.
         if (h1 <= 0.0) {
-            let s = h0 / (h0 - h1);
-            let q = p0 + d * s;
-            let u = dot(q - c, right);
-            let v = dot(q - c, up);
-            if (abs(u) <= hw && abs(v) <= hh) {
-                h = Hit(s, q, n, t, cell_at(at, u, v));
-            }
+            s = h0 / (h0 - h1);
         }
     } else if (h0 > 0.0 && h1 <= top) {
         // From the front, into the band the layer may fill: the crossing of the layer's height
@@ -426,15 +423,15 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
         // taller than its start enters it through its side, and the material settles in the
         // column it came down (as in ballistic deposition: stacking it on the taller one would
         // let every column that gets ahead catch its neighbours' flux and grow into a needle).
-        var s = 1.0;
+        s = 1.0;
         if (h1 < 0.0) {
             s = h0 / (h0 - h1);
         }
         var layer = -1.0;
         var side = false;
         for (var k = 0u; k < 3u; k++) {
-            let q = p0 + d * s;
-            let next = thickness[first + cell_at(at, dot(q - c, right), dot(q - c, up))];
+            let uv = face_uv(at, p0 + d * s);
+            let next = thickness[first + cell_at(at, uv.x, uv.y)];
             if (h0 <= next) {
                 side = true;
                 break;
@@ -457,25 +454,23 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
             let along = length(d - n * dot(d, n));
             s = max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
         }
-        if (s <= 1.0) {
-            let q = p0 + d * s;
-            let u = dot(q - c, right);
-            let v = dot(q - c, up);
-            if (abs(u) <= hw && abs(v) <= hh) {
-                h = Hit(s, q, n, t, cell_at(at, u, v));
-            }
-        }
     } else if (h0 < 0.0 && h1 >= 0.0) {
         // From behind, onto the bare back.
-        let s = clamp(h0 / (h0 - h1), 0.0, 1.0);
-        let q = p0 + d * s;
-        let u = dot(q - c, right);
-        let v = dot(q - c, up);
-        if (abs(u) <= hw && abs(v) <= hh) {
-            h = Hit(s, q, -n, t, NO_CELL);
-        }
+        s = clamp(h0 / (h0 - h1), 0.0, 1.0);
+        front = false;
     }
-    return h;
+    if (s > 1.0) {
+        return no_hit();
+    }
+    let q = p0 + d * s;
+    let uv = face_uv(at, q);
+    if (abs(uv.x) > hw || abs(uv.y) > hh) {
+        return no_hit();
+    }
+    if (front) {
+        return Hit(s, q, n, t, cell_at(at, uv.x, uv.y));
+    }
+    return Hit(s, q, -n, t, NO_CELL);
 }
 
 fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {

@@ -8,7 +8,7 @@ use common::{mean_sd, run};
 use spraysim_engine::deposit::DepositSurface;
 use spraysim_engine::{Metrics, Simulation};
 use spraysim_scenario::Scenario;
-use spraysim_scenario::scenes::{NOZZLE_AT_WALL, bar, floor, scenario, wall};
+use spraysim_scenario::scenes::{NOZZLE_AT_WALL, bar, failing_layer, floor, scenario, wall};
 
 /// Seeds per backend.
 const SEEDS: u64 = 4;
@@ -135,19 +135,9 @@ fn the_same_seed_on_the_same_adapter_gives_the_same_bits() {
 #[test]
 fn material_released_by_cohesive_failures_flies_on_the_gpu_as_on_the_cpu() {
     let Some(gpu) = common::gpu() else { return };
-    // A weak, barely cohesive layer fails as it grows (analysed every 0.1 s), and its failures
-    // feed each other as released material lands on the layer below and on the floor.
-    let weak = |seed: u64| {
-        Scenario::default_scene()
-            .with_all(&[
-                ("simulation.duration".into(), 1.4.into()),
-                ("simulation.seed".into(), (seed as i64).into()),
-                ("process.cohesion.interval".into(), 0.1.into()),
-                ("process.cohesion.shear_strength".into(), 300.0.into()),
-                ("process.cohesion.cohesion".into(), 1.0.into()),
-            ])
-            .expect("valid overrides")
-    };
+    // A weak layer fails as it grows, and its failures feed each other as released material
+    // lands on the layer below and on the floor.
+    let weak = |seed: u64| failing_layer(1.4, seed);
     let figures = |m: &Metrics| {
         [
             m.failures.events.len() as f64,
@@ -180,14 +170,7 @@ fn the_gpu_copy_of_the_layers_follows_them_cell_for_cell() {
     // Its own stage: the other tests' calls would replace the copy between two of this one's.
     let Some(gpu) = common::own_gpu().map(std::sync::Arc::new) else { return };
     // Deposits every epoch, and a weak layer that fails (cells emptied) every 0.1 s.
-    let sc = Scenario::default_scene()
-        .with_all(&[
-            ("simulation.duration".into(), 0.8.into()),
-            ("process.cohesion.interval".into(), 0.1.into()),
-            ("process.cohesion.shear_strength".into(), 300.0.into()),
-            ("process.cohesion.cohesion".into(), 1.0.into()),
-        ])
-        .expect("valid overrides");
+    let sc = failing_layer(0.8, 1);
     let mut sim = sc.build().expect("builds");
     sim.set_flight_stage(Some(gpu.clone()));
     let layers = |s: &Simulation| -> Vec<f32> {

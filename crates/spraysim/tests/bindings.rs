@@ -5,7 +5,7 @@
 
 use spraysim::deposit::DepositSurface;
 use spraysim::motion::Integrator;
-use spraysim::{Scenario, Simulation, SimulationConfig};
+use spraysim::{Simulation, SimulationConfig};
 
 #[test]
 fn every_particle_is_reported_where_it_is_now() {
@@ -44,14 +44,7 @@ fn every_particle_is_reported_where_it_is_now() {
 #[test]
 fn deposit_maps_keep_their_storage_while_layers_grow_and_fail() {
     // A weak, barely cohesive layer fails as it grows (analysed every 0.1 s).
-    let scenario = Scenario::default_scene()
-        .with_all(&[
-            ("simulation.duration".into(), 0.6.into()),
-            ("process.cohesion.interval".into(), 0.1.into()),
-            ("process.cohesion.shear_strength".into(), 300.0.into()),
-            ("process.cohesion.cohesion".into(), 1.0.into()),
-        ])
-        .expect("valid overrides");
+    let scenario = spraysim::scenario::scenes::failing_layer(0.6, 1);
     let mut sim = scenario.build().expect("the default scene builds");
     let maps = |s: &Simulation| {
         let t = &s.targets()[0].surface;

@@ -3,8 +3,10 @@
 //! `--backend`).
 
 use anyhow::Result;
+use spraysim::pipeline::FlightStage;
 use spraysim::scenario::Backend;
 use spraysim::{Scenario, Simulation};
+use std::sync::Arc;
 
 /// How to build the command with the GPU backend.
 #[cfg(not(feature = "gpu"))]
@@ -34,14 +36,22 @@ pub fn attach(sim: &mut Simulation, scenario: &Scenario) -> Result<Option<String
 }
 
 /// The GPU's flight stage for `scenario`, or why there is none.
-#[cfg(feature = "gpu")]
-fn gpu_stage(scenario: &Scenario) -> Result<std::sync::Arc<dyn spraysim::pipeline::FlightStage>> {
+fn gpu_stage(scenario: &Scenario) -> Result<Arc<dyn FlightStage>> {
+    #[cfg(feature = "gpu")]
     spraysim_gpu::check(&scenario.config())?;
-    Ok(std::sync::Arc::new(spraysim_gpu::GpuFlight::new(&spraysim_gpu::GpuOptions::default())?))
+    #[cfg(not(feature = "gpu"))]
+    let _ = scenario;
+    open_gpu()
+}
+
+/// The GPU's flight stage on the first adapter, or why there is none.
+#[cfg(feature = "gpu")]
+pub fn open_gpu() -> Result<Arc<dyn FlightStage>> {
+    Ok(Arc::new(spraysim_gpu::GpuFlight::new(&spraysim_gpu::GpuOptions::default())?))
 }
 
 /// A build without the GPU backend has no stage.
 #[cfg(not(feature = "gpu"))]
-fn gpu_stage(_: &Scenario) -> Result<std::sync::Arc<dyn spraysim::pipeline::FlightStage>> {
+pub fn open_gpu() -> Result<Arc<dyn FlightStage>> {
     anyhow::bail!("this build has no GPU backend: {BUILD_GPU}")
 }

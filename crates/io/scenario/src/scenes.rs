@@ -209,6 +209,21 @@ pub fn scenario(text: &str, origin: &str) -> Scenario {
     Scenario::from_toml(text, origin).unwrap_or_else(|e| panic!("the scene `{origin}` is refused: {e}"))
 }
 
+/// The default scene for `duration` s with `seed`, its layer weak and barely cohesive (shear
+/// strength 300 Pa, cohesion 1 Pa) and analysed every 0.1 s: it fails as it grows, and from
+/// about 0.6 s its failures feed each other as released material lands on the layer below.
+pub fn failing_layer(duration: f64, seed: u64) -> Scenario {
+    Scenario::default_scene()
+        .with_all(&[
+            ("simulation.duration".into(), duration.into()),
+            ("simulation.seed".into(), (seed as i64).into()),
+            ("process.cohesion.interval".into(), 0.1.into()),
+            ("process.cohesion.shear_strength".into(), 300.0.into()),
+            ("process.cohesion.cohesion".into(), 1.0.into()),
+        ])
+        .unwrap_or_else(|e| panic!("the failing layer is refused: {e}"))
+}
+
 /// The key and message of a scenario's refusal; panics when `result` is accepted or refused
 /// without a key, naming `what` was refused.
 pub fn refusal(result: Result<Scenario, ScenarioError>, what: &str) -> (String, String) {

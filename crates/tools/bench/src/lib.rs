@@ -326,12 +326,26 @@ pub fn measure_median_on(
     repeats: usize,
     stage: Option<&Arc<dyn FlightStage>>,
 ) -> Result<Measurement, BenchError> {
+    median_run(scenario, (threads, repeats, stage), |m| m, |m| m.wall)
+}
+
+/// Runs `scenario` on `threads` threads and `stage` `repeats` times (at least once) after one
+/// untimed warm-up of a tenth of its duration, passing each run, the warm-up too, to `each`,
+/// and returns what `each` made of the run of median `wall` time (s). `each` may take what a run
+/// leaves behind elsewhere (a stage's own timings); the warm-up's result is dropped.
+pub fn median_run<T>(
+    scenario: &Scenario,
+    (threads, repeats, stage): (usize, usize, Option<&Arc<dyn FlightStage>>),
+    mut each: impl FnMut(Measurement) -> T,
+    wall: impl Fn(&T) -> f64,
+) -> Result<T, BenchError> {
     let s = scenario.simulation();
     let warm = scenario.with("simulation.duration", (0.1 * s.duration).max(s.dt))?;
-    measure_on(&warm, threads, stage)?;
-    let runs =
-        (0..repeats.max(1)).map(|_| measure_on(scenario, threads, stage)).collect::<Result<Vec<_>, _>>()?;
-    median_by(runs, |r| r.wall).ok_or_else(|| BenchError::Settings("no timed run".into()))
+    each(measure_on(&warm, threads, stage)?);
+    let runs = (0..repeats.max(1))
+        .map(|_| measure_on(scenario, threads, stage).map(&mut each))
+        .collect::<Result<Vec<_>, _>>()?;
+    median_by(runs, wall).ok_or_else(|| BenchError::Settings("no timed run".into()))
 }
 
 /// The element of median `time` (s) of `runs` (the later of the middle two of an even count);

@@ -5,7 +5,8 @@
 //! the CPU).
 
 use crate::{
-    BenchError, MatrixSettings, ReferenceScene, measure_median_on, measure_on, paper_baseline, raster_pass,
+    BenchError, MatrixSettings, ReferenceScene, measure_median_on, measure_on, median_run, paper_baseline,
+    raster_pass,
 };
 use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
 use std::sync::Arc;
@@ -113,17 +114,9 @@ pub fn run_stage_rows(
         cpu.particles_per_second(),
         cpu.particles_per_second() / paper
     )?;
-    // A warm-up, then each timed run with the stage's time within it.
-    let s = reference.simulation();
-    measure_on(&reference.with("simulation.duration", (0.1 * s.duration).max(s.dt))?, all, Some(&on))?;
-    timed.take();
-    let mut runs = Vec::new();
-    for _ in 0..m.repeats.max(1) {
-        let r = measure_on(&reference, all, Some(&on))?;
-        runs.push((r, timed.take()));
-    }
+    // Each run with the stage's time within it.
     let (gpu, (inside, calls)) =
-        crate::median_by(runs, |r| r.0.wall).ok_or_else(|| BenchError::Settings("no timed run".into()))?;
+        median_run(&reference, (all, m.repeats, Some(&on)), |r| (r, timed.take()), |r| r.0.wall)?;
     writeln!(
         out,
         "| reference, stage | {:.4} | {:.3e} | {:.1} | {:.2} | {:.0} % | {calls} |",

@@ -28,18 +28,12 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
 }
 
 /// The GPU backend's rows, and its storage per particle slot.
-#[cfg(feature = "gpu")]
 fn gpu_rows(settings: &spraysim_bench::MatrixSettings) -> Result<()> {
-    let gpu = std::sync::Arc::new(spraysim_gpu::GpuFlight::new(&spraysim_gpu::GpuOptions::default())?);
+    let gpu = crate::backend::open_gpu()?;
     spraysim_bench::stage::run_stage_rows(gpu, settings, &mut std::io::stdout().lock())?;
+    #[cfg(feature = "gpu")]
     say!("GPU particle storage: {} bytes per particle slot", spraysim_gpu::BYTES_PER_SLOT);
     Ok(())
-}
-
-/// A build without the GPU backend has no GPU rows.
-#[cfg(not(feature = "gpu"))]
-fn gpu_rows(_: &spraysim_bench::MatrixSettings) -> Result<()> {
-    anyhow::bail!("this build has no GPU backend: {}", crate::backend::BUILD_GPU)
 }
 
 /// The render line of a build without 3D views: says how to get one.
