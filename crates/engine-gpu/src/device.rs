@@ -7,6 +7,10 @@ use crate::GpuError;
 pub struct GpuOptions {
     /// Only a software adapter (Mesa's lavapipe): slow, but on every machine, for tests.
     pub software: bool,
+    /// The most layer epochs one call of the flight stage takes: 0 (the default) as many as
+    /// the layer stages' intervals and the GPU's memory allow; 1 a call per epoch, with the
+    /// layers settled on the CPU between two (slower: for comparisons).
+    pub max_epochs_per_call: u64,
 }
 
 /// An adapter and the device opened on it.

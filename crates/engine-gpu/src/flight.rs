@@ -1,7 +1,8 @@
 //! [`GpuFlight`]: the engine's flight stage on the GPU. Each call uploads what changed (the
-//! particles, the scene's words, the rows of the layers that moved), runs the `fly` kernel over
-//! the particles and the `gather` kernel over the cells they listed, and reads back the
-//! particles, the counters and the listed cells.
+//! particles, the scene's words, the rows of the layers that moved) and submits, in one go, the
+//! `fly` kernel over the particles for each layer epoch of the call with the `settle` kernel
+//! between two (the layers brought up to date on the GPU), then the `gather` kernel over the
+//! cells they listed; it reads back the particles, the counters and the listed cells once.
 
 use crate::device::{Gpu, GpuOptions};
 use crate::pack::{
@@ -27,7 +28,11 @@ pub struct GpuFlight {
     gpu: Gpu,
     layout: wgpu::BindGroupLayout,
     fly: wgpu::ComputePipeline,
+    settle: wgpu::ComputePipeline,
+    census: wgpu::ComputePipeline,
     gather: wgpu::ComputePipeline,
+    /// The most epochs a call takes (see [`GpuOptions::max_epochs_per_call`]).
+    max_epochs: u64,
     buffers: Mutex<Buffers>,
     profile: Mutex<Profile>,
 }
@@ -38,12 +43,14 @@ pub struct GpuFlight {
 pub struct Profile {
     /// Calls.
     pub calls: u64,
+    /// Layer epochs flown, in all calls.
+    pub epochs: u64,
     /// Particles flown.
     pub particles: u64,
     /// Laying the job out and uploading it (particles, scene, changed layers).
     pub upload: f64,
-    /// From submitting the kernels to their counters and particles read back: the kernels'
-    /// time, with the copies and the wait.
+    /// From submitting the kernels (every epoch's) to their counters and particles read back:
+    /// the kernels' time, with the copies and the wait.
     pub kernels: f64,
     /// Reading back the cells listed (a second submission and wait).
     pub cells: f64,
@@ -60,10 +67,13 @@ struct Buffers {
     counters: Option<wgpu::Buffer>,
     cells: Option<wgpu::Buffer>,
     listed: Option<wgpu::Buffer>,
+    plan: Option<wgpu::Buffer>,
     readback: Option<wgpu::Buffer>,
     /// Per target, the identity of the layer the GPU's copy holds and its first cell there
     /// (empty: the copy holds nothing known).
     mirror: Vec<(u64, u32)>,
+    /// Words of each half of `thickness` (the cells of all grids, and a spare).
+    layer_words: u64,
 }
 
 impl GpuFlight {
@@ -88,13 +98,24 @@ impl GpuFlight {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("flight"),
             entries: &[
-                entry(0, wgpu::BufferBindingType::Uniform),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        // Each epoch's parameters at their own offset.
+                        has_dynamic_offset: true,
+                        min_binding_size: Some(PARAMS_BYTES),
+                    },
+                    count: None,
+                },
                 entry(1, rw),
                 entry(2, ro),
-                entry(3, ro),
+                entry(3, rw),
                 entry(4, rw),
                 entry(5, rw),
                 entry(6, rw),
+                entry(7, rw),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -112,12 +133,17 @@ impl GpuFlight {
                 cache: None,
             })
         };
-        let (fly, gather) = (pipeline("fly"), pipeline("gather"));
+        let (fly, settle, census, gather) =
+            (pipeline("fly"), pipeline("settle"), pipeline("census"), pipeline("gather"));
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Device(format!("the flight kernels do not build: {e}")));
         }
         let (buffers, profile) = (Mutex::new(Buffers::default()), Mutex::new(Profile::default()));
-        Ok(GpuFlight { gpu, layout, fly, gather, buffers, profile })
+        let max_epochs = match options.max_epochs_per_call {
+            0 => u64::MAX,
+            n => n,
+        };
+        Ok(GpuFlight { gpu, layout, fly, settle, census, gather, max_epochs, buffers, profile })
     }
 
     /// The adapter the kernels run on.
@@ -126,11 +152,24 @@ impl GpuFlight {
     }
 
     /// The GPU's copy of the layers, m, every target's cells one after the other, as the last
-    /// call left it: the layers as they stood at that call's start.
+    /// call found it: the layers as they stood at that call's start.
     pub fn read_layers(&self) -> Result<Vec<f32>, GpuError> {
+        self.read_thickness(true)
+    }
+
+    /// The GPU's own layers, m, as the last call left them: its copy with each of its epochs'
+    /// deposits added, as the engine adds them at the epochs' ends.
+    pub fn read_settled_layers(&self) -> Result<Vec<f32>, GpuError> {
+        self.read_thickness(false)
+    }
+
+    /// One half of the layers' buffer: as the last call found them (`found`), or left them.
+    fn read_thickness(&self, found: bool) -> Result<Vec<f32>, GpuError> {
         let mut b = self.buffers.lock().map_err(|_| GpuError::Device("a previous call failed".into()))?;
         let layer = some(&b.thickness)?.clone();
-        Ok(bytemuck::cast_slice(&self.copy_out(&mut b, &layer, layer.size())?).to_vec())
+        let half = b.layer_words * 4;
+        let at = if found { half } else { 0 };
+        Ok(bytemuck::cast_slice(&self.copy_out(&mut b, &layer, at, half)?).to_vec())
     }
 
     /// Where the calls' time went since the last call of this, which starts the sums afresh.
@@ -169,13 +208,9 @@ impl GpuFlight {
         let counter_words = TALLY_WORDS
             + TARGET_COUNTER_WORDS * job.targets.len()
             + OBSTACLE_COUNTER_WORDS * job.config.obstacles.len();
-        let params = pack::params(job, &scene, n, nozzle);
+        let epochs = pack::epochs(job);
         let mirror = self.upload(&mut b, job, (&scene, &held), &slots, counter_words);
-        let params = self.gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("params"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let params = self.params(job, &scene, (n, nozzle), &epochs);
         let bind = self.bind_group(&b, &params)?;
         let particle_bytes = (BYTES_PER_SLOT * slots.len().max(1)) as u64;
         let counter_bytes = 4 * counter_words as u64;
@@ -185,10 +220,22 @@ impl GpuFlight {
             self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_bind_group(0, &bind, &[]);
-            pass.set_pipeline(&self.fly);
-            let (x, y) = groups(n);
-            pass.dispatch_workgroups(x, y, 1);
+            let stride = self.params_stride();
+            for e in 0..epochs.len() {
+                pass.set_bind_group(0, &bind, &[(e as u64 * stride) as u32]);
+                pass.set_pipeline(&self.fly);
+                let (x, y) = groups(n);
+                pass.dispatch_workgroups(x, y, 1);
+                pass.set_pipeline(&self.census);
+                pass.dispatch_workgroups(1, 1, 1);
+                // Between two epochs, and after the last (which the next call does not read but
+                // `read_settled_layers` does).
+                pass.set_pipeline(&self.settle);
+                let (x, y) = groups(scene.cells);
+                pass.dispatch_workgroups(x, y, 1);
+                pass.set_pipeline(&self.census);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
             pass.set_pipeline(&self.gather);
             let (x, y) = groups(scene.cells);
             pass.dispatch_workgroups(x, y, 1);
@@ -207,6 +254,7 @@ impl GpuFlight {
         b.mirror = mirror;
         if let Ok(mut p) = self.profile.lock() {
             p.calls += 1;
+            p.epochs += epochs.len() as u64;
             p.particles += u64::from(n);
             p.upload += (uploaded - start).as_secs_f64();
             p.kernels += (flew - uploaded).as_secs_f64();
@@ -216,9 +264,38 @@ impl GpuFlight {
         Ok(report)
     }
 
+    /// Bytes between two epochs' parameters: the adapter's alignment of uniform offsets.
+    fn params_stride(&self) -> u64 {
+        let align = u64::from(self.gpu.device.limits().min_uniform_buffer_offset_alignment);
+        PARAMS_BYTES.get().next_multiple_of(align.max(1))
+    }
+
+    /// The parameters of each of `epochs`, one after the other at [`GpuFlight::params_stride`].
+    fn params(
+        &self,
+        job: &FlightJob<'_>,
+        scene: &pack::SceneWords,
+        sizes: (u32, u32),
+        epochs: &[(u64, u64)],
+    ) -> wgpu::Buffer {
+        let stride = self.params_stride() as usize;
+        let mut bytes = vec![0u8; stride * epochs.len().max(1)];
+        for (k, &range) in epochs.iter().enumerate() {
+            let p = pack::params(job, scene, sizes, range);
+            bytes[k * stride..k * stride + PARAMS_BYTES.get() as usize]
+                .copy_from_slice(bytemuck::bytes_of(&p));
+        }
+        self.gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: &bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+    }
+
     /// Uploads the call's particles, scene and layers (only the spans that changed where the
-    /// GPU's copy, `held`, holds the same layers), and zeroes the counters; returns what the
-    /// copy holds now.
+    /// GPU's copy, `held`, holds the same layers), each layer twice (as the epochs will see it,
+    /// and as the call found it), and the counters at their start; returns what the copy holds
+    /// now.
     fn upload(
         &self,
         b: &mut Buffers,
@@ -240,25 +317,34 @@ impl GpuFlight {
             .zip(&scene.first_cells)
             .map(|(r, &first)| (r.as_ref().map_or(0, |r| r.0), first))
             .collect();
-        let cells = scene.cells as usize + 1;
-        let fresh = b.thickness.as_ref().is_none_or(|t| t.size() < 4 * cells as u64)
+        let cells = u64::from(scene.cells) + 1;
+        let fresh = b.thickness.as_ref().is_none_or(|t| t.size() < 8 * cells)
+            || b.layer_words != cells
             || held != layout.as_slice()
             || job.revised.iter().any(Option::is_none);
-        let layer = grow(device, &mut b.thickness, 4 * cells as u64, storage);
+        let layer = grow(device, &mut b.thickness, 8 * cells, storage);
+        b.layer_words = cells;
         if fresh {
-            queue.write_buffer(&layer, 0, bytemuck::cast_slice(&pack::thicknesses(job)));
+            let all = pack::thicknesses(job);
+            queue.write_buffer(&layer, 0, bytemuck::cast_slice(&all));
+            queue.write_buffer(&layer, 4 * cells, bytemuck::cast_slice(&all));
         } else {
             for ((target, revised), &first) in job.targets.iter().zip(job.revised).zip(&scene.first_cells) {
                 let Some((_, changed)) = revised else { continue };
                 let (Some(&lo), Some(&hi)) = (changed.first(), changed.last()) else { continue };
                 let span: Vec<f32> =
                     target.surface.thickness()[lo as usize..=hi as usize].iter().map(|&t| t as f32).collect();
-                queue.write_buffer(&layer, 4 * u64::from(first + lo), bytemuck::cast_slice(&span));
+                let at = 4 * u64::from(first + lo);
+                queue.write_buffer(&layer, at, bytemuck::cast_slice(&span));
+                queue.write_buffer(&layer, 4 * cells + at, bytemuck::cast_slice(&span));
             }
         }
-        let zero = vec![0u32; counters];
+        let start = pack::counters(scene, job.targets.len(), counters);
         let c = grow(device, &mut b.counters, 4 * counters as u64, storage);
-        queue.write_buffer(&c, 0, bytemuck::cast_slice(&zero));
+        queue.write_buffer(&c, 0, bytemuck::cast_slice(&start));
+        let plan = pack::plan(scene, job.targets.len());
+        let p = grow(device, &mut b.plan, 4 * plan.len() as u64, storage);
+        queue.write_buffer(&p, 0, bytemuck::cast_slice(&plan));
         // New cell counters start at zero; `gather` leaves them so.
         let cells = 16 * (u64::from(scene.cells) + 1);
         grow(device, &mut b.cells, cells, storage);
@@ -275,13 +361,23 @@ impl GpuFlight {
             some(&b.counters)?,
             some(&b.cells)?,
             some(&b.listed)?,
+            some(&b.plan)?,
         ];
         let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
             .iter()
             .enumerate()
             .map(|(k, buffer)| wgpu::BindGroupEntry {
                 binding: k as u32,
-                resource: buffer.as_entire_binding(),
+                // The parameters: one epoch's, at the offset each dispatch gives.
+                resource: if k == 0 {
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer,
+                        offset: 0,
+                        size: Some(PARAMS_BYTES),
+                    })
+                } else {
+                    buffer.as_entire_binding()
+                },
             })
             .collect();
         Ok(self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -297,16 +393,22 @@ impl GpuFlight {
             return Ok(Vec::new());
         }
         let listed = some(&b.listed)?.clone();
-        let data = self.copy_out(b, &listed, 16 * u64::from(count))?;
+        let data = self.copy_out(b, &listed, 0, 16 * u64::from(count))?;
         Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
     }
 
-    /// The first `bytes` of `source`, copied through the read-back buffer.
-    fn copy_out(&self, b: &mut Buffers, source: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuError> {
+    /// `bytes` of `source` from byte `at`, copied through the read-back buffer.
+    fn copy_out(
+        &self,
+        b: &mut Buffers,
+        source: &wgpu::Buffer,
+        at: u64,
+        bytes: u64,
+    ) -> Result<Vec<u8>, GpuError> {
         let readback = grow(&self.gpu.device, &mut b.readback, bytes, READBACK);
         let mut encoder =
             self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encoder.copy_buffer_to_buffer(source, 0, &readback, 0, bytes);
+        encoder.copy_buffer_to_buffer(source, at, &readback, 0, bytes);
         self.gpu.queue.submit([encoder.finish()]);
         self.read(&readback, bytes)
     }
@@ -329,6 +431,13 @@ impl GpuFlight {
         Ok(out)
     }
 }
+
+/// Bytes of one epoch's parameters.
+const PARAMS_BYTES: wgpu::BufferSize = match wgpu::BufferSize::new(std::mem::size_of::<pack::Params>() as u64)
+{
+    Some(n) => n,
+    None => panic!("the parameters take bytes"),
+};
 
 /// Usage of the readback buffer.
 const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
@@ -439,13 +548,23 @@ impl FlightStage for GpuFlight {
         self.gpu.describe()
     }
 
+    fn epochs_per_call(&self) -> u64 {
+        self.max_epochs
+    }
+
+    fn particles_per_call(&self) -> usize {
+        let limit = self.gpu.device.limits().max_storage_buffer_binding_size;
+        usize::try_from(limit / BYTES_PER_SLOT as u64).unwrap_or(usize::MAX)
+    }
+
     fn profile(&self) -> Option<String> {
         let p = self.take_profile();
         let per_call = |s: f64| 1e6 * s / p.calls.max(1) as f64;
         Some(format!(
-            "{} calls of {:.0} particles: per call, upload {:.0} µs, kernels with counters and particles read back \
-             {:.0} µs, listed cells read back {:.0} µs, report {:.0} µs",
+            "{} calls of {:.1} epochs and {:.0} particles: per call, upload {:.0} µs, kernels with counters and \
+             particles read back {:.0} µs, listed cells read back {:.0} µs, report {:.0} µs",
             p.calls,
+            p.epochs as f64 / p.calls.max(1) as f64,
             p.particles as f64 / p.calls.max(1) as f64,
             per_call(p.upload),
             per_call(p.kernels),

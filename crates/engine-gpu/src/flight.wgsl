@@ -1,6 +1,9 @@
-// The flight of one particle per invocation through the steps of one call (a layer epoch or
-// part of one), against the layers as they stood at the call's start: the GPU twin of the
-// engine's `pipeline/kernel.rs`, in f32, with every surface tested in every step.
+// The flight of one particle per invocation through the steps of one layer epoch (or part of
+// one), against the layers as they stood at the epoch's start: the GPU twin of the engine's
+// `pipeline/kernel.rs`, in f32, with every surface tested in every step. A call of several
+// epochs dispatches `fly` once per epoch (its steps in the parameters at the epoch's dynamic
+// offset) and `settle` between two, which brings the layers up to date with what the call has
+// deposited so far; `gather` ends the call.
 //
 // Layouts (word offsets, all u32; f32 through bitcast) are written by `pack.rs`, whose
 // constants these mirror. What a particle leaves behind is booked in integer atomics, whose
@@ -30,13 +33,17 @@ struct Particle {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> particles: array<Particle>;
 @group(0) @binding(2) var<storage, read> scene: array<u32>;
-@group(0) @binding(3) var<storage, read> thickness: array<f32>;
+// The layers, m, every target's cells one after the other (and a spare): first as the epoch
+// under way sees them, then, from word `cells + 1`, as the call found them.
+@group(0) @binding(3) var<storage, read_write> thickness: array<f32>;
 @group(0) @binding(4) var<storage, read_write> counters: array<atomic<u32>>;
 // Per cell of every grid: deposit quanta (low, high), impacts, and a mark (listed this call).
 @group(0) @binding(5) var<storage, read_write> cells: array<atomic<u32>>;
 // The cells listed, 4 words each: the cell (over all grids), then, after `gather`, its
 // deposit quanta (low, high) and impacts.
 @group(0) @binding(6) var<storage, read_write> listed: array<u32>;
+// As the last `census` found them: [0] the cells listed, then each target's band (f32 bits).
+@group(0) @binding(7) var<storage, read_write> plan: array<u32>;
 
 const ALIVE: u32 = 1u;
 const HIT_SUBSTRATE: u32 = 2u;
@@ -56,7 +63,9 @@ const TARGET_WORDS: u32 = 32u;
 const SHAPE_WORDS: u32 = 16u;
 
 // Counters: [0, 1] particle-steps (low, high), [2] cells listed, then the run's fates (slots of
-// 4 words: count, quanta low, quanta high, unused), then per target and per obstacle.
+// 4 words: count, quanta low, quanta high, unused), then per target and per obstacle. The
+// fourth word of a target's first slot holds the band its layer may fill (f32 bits, m: at least
+// its thickest cell's thickness, raised by `settle`).
 const C_STEPS: u32 = 0u;
 const C_LISTED: u32 = 2u;
 const C_TALLY: u32 = 4u;
@@ -110,6 +119,11 @@ fn tally(slot: u32, q: vec2<u32>) {
 
 fn target_slot(t: u32, slot: u32) -> u32 {
     return C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * t + slot);
+}
+
+// The band target t's layer may fill, m: no cell of the epoch's layers is thicker.
+fn band(t: u32) -> f32 {
+    return bitcast<f32>(plan[1u + t]);
 }
 
 fn obstacle_slot(o: u32, slot: u32) -> u32 {
@@ -306,6 +320,10 @@ fn shape_hit(at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
                 }
             }
         }
+        // Box: centre, two of its local axes (the third is their cross product), half extents.
+        case 5u: {
+            h = box_hit(at, p0, p1);
+        }
         // Face: centre, normal, up, right, half width, half height.
         default: {
             let c = crossing(v3(at + 2u), v3(at + 5u), p0, p1);
@@ -320,6 +338,63 @@ fn shape_hit(at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     }
     h.owner = OBSTACLE + scene[at + 1u];
     return h;
+}
+
+// The first hit of the segment on the box at `at` (slab method): entering through the face on
+// the side it comes from, or, starting inside, pushed out through the nearest face at once (as
+// the engine's `OrientedBox`).
+fn box_hit(at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    let a0 = v3(at + 5u);
+    let a1 = v3(at + 8u);
+    var axes = array<vec3<f32>, 3>(a0, a1, cross(a0, a1));
+    let half = v3(at + 11u);
+    let rel = p0 - v3(at + 2u);
+    let d = p1 - p0;
+    var t_enter = -3.0e38;
+    var t_exit = 3.0e38;
+    var enter = vec3<f32>(0.0);
+    var inside = true;
+    var nearest = vec3<f32>(0.0);
+    var gap = 3.0e38;
+    for (var i = 0u; i < 3u; i++) {
+        let o = dot(rel, axes[i]);
+        let v = dot(d, axes[i]);
+        let e = half[i];
+        if (abs(o) >= e) {
+            inside = false;
+        }
+        if (e - abs(o) < gap) {
+            gap = e - abs(o);
+            nearest = axes[i] * select(-1.0, 1.0, o >= 0.0);
+        }
+        if (v == 0.0) {
+            if (abs(o) > e) {
+                return no_hit();
+            }
+            continue;
+        }
+        var t0 = (-e - o) / v;
+        var t1 = (e - o) / v;
+        var side = -1.0;
+        if (t0 > t1) {
+            let t = t0;
+            t0 = t1;
+            t1 = t;
+            side = 1.0;
+        }
+        if (t0 > t_enter) {
+            t_enter = t0;
+            enter = axes[i] * side;
+        }
+        t_exit = min(t_exit, t1);
+    }
+    if (inside) {
+        return Hit(0.0, p0, nearest, 0u, NO_CELL);
+    }
+    if (t_enter > t_exit || t_enter < 0.0 || t_enter > 1.0) {
+        return no_hit();
+    }
+    return Hit(t_enter, p0 + d * t_enter, enter, 0u, NO_CELL);
 }
 
 fn cylinder_hit(a: vec3<f32>, b: vec3<f32>, r: f32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
@@ -399,7 +474,7 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let hw = f(at + 12u);
     let hh = f(at + 13u);
     let first = scene[at + 16u];
-    let top = f(at + 17u);
+    let top = band(t);
     let h0 = dot(p0 - c, n);
     let h1 = dot(p1 - c, n);
     let d = p1 - p0;
@@ -844,15 +919,15 @@ fn full_step(s: u32) {
     set_flags(flags() & ~ALIVE);
 }
 
-@compute @workgroup_size(64)
-fn fly(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x + gid.y * params.seed.w;
+// Flies particle i through the epoch's steps; returns the steps it took.
+fn fly_one(i: u32) -> u32 {
     if (i >= params.steps.z) {
-        return;
+        return 0u;
     }
     P = particles[i];
-    if ((flags() & ALIVE) == 0u) {
-        return;
+    // Retired, or born in a later epoch of the call.
+    if ((flags() & ALIVE) == 0u || P.born >= params.steps.y) {
+        return 0u;
     }
     var s = max(params.steps.x, P.born);
     var steps = 0u;
@@ -862,14 +937,41 @@ fn fly(@builtin(global_invocation_id) gid: vec3<u32>) {
         steps++;
     }
     particles[i] = P;
-    add64(C_STEPS, vec2<u32>(steps, 0u));
+    return steps;
+}
+
+// The particle-steps of a workgroup, added up there before one global addition.
+var<workgroup> group_steps: atomic<u32>;
+
+@compute @workgroup_size(64)
+fn fly(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    if (lid == 0u) {
+        atomicStore(&group_steps, 0u);
+    }
+    workgroupBarrier();
+    atomicAdd(&group_steps, fly_one(gid.x + gid.y * params.seed.w));
+    workgroupBarrier();
+    if (lid == 0u) {
+        add64(C_STEPS, vec2<u32>(atomicLoad(&group_steps), 0u));
+    }
+}
+
+// One workgroup: the cells listed and each target's band, copied into `plan`.
+@compute @workgroup_size(64)
+fn census(@builtin(local_invocation_index) lid: u32) {
+    if (lid == 0u) {
+        plan[0] = atomicLoad(&counters[C_LISTED]);
+    }
+    for (var t = lid; t < params.sizes.x; t += 64u) {
+        plan[1u + t] = atomicLoad(&counters[target_slot(t, TG_HITS) + 3u]);
+    }
 }
 
 // Copies each listed cell's deposit and impacts beside it and clears the cell for the next call.
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x + gid.y * params.seed.w;
-    if (k >= atomicLoad(&counters[C_LISTED])) {
+    if (k >= plan[0]) {
         return;
     }
     let c = listed[4u * k];
@@ -877,4 +979,36 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     listed[4u * k + 2u] = atomicExchange(&cells[4u * c + 1u], 0u);
     listed[4u * k + 3u] = atomicExchange(&cells[4u * c + 2u], 0u);
     atomicStore(&cells[4u * c + 3u], 0u);
+}
+
+// At the end of an epoch within a call: each listed cell's layer as the call found it plus what
+// the call has deposited on it so far (quanta × the quantum's thickness on one of the target's
+// cells), as the engine settles an epoch; the target's band is raised to it.
+@compute @workgroup_size(64)
+fn settle(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x + gid.y * params.seed.w;
+    if (k >= plan[0]) {
+        return;
+    }
+    let c = listed[4u * k];
+    let lo = atomicLoad(&cells[4u * c]);
+    let hi = atomicLoad(&cells[4u * c + 1u]);
+    if (lo == 0u && hi == 0u) {
+        return;
+    }
+    // The target whose grid holds the cell: the last whose first cell is not past it.
+    var t = 0u;
+    for (var j = 1u; j < params.sizes.x; j++) {
+        if (scene[params.tables.x + TARGET_WORDS * j + 16u] <= c) {
+            t = j;
+        }
+    }
+    let per_quantum = f(params.tables.x + TARGET_WORDS * t + 21u);
+    let quanta = f32(hi) * 4294967296.0 + f32(lo);
+    let layer = max(thickness[params.tables.w + 1u + c] + quanta * per_quantum, 0.0);
+    thickness[c] = layer;
+    // Raised only by the cells above it: few, as a layer grows slowly.
+    if (layer > band(t)) {
+        atomicMax(&counters[target_slot(t, TG_HITS) + 3u], bitcast<u32>(layer));
+    }
 }

@@ -192,6 +192,13 @@ fn shape_words(s: &Shape, owner: usize) -> [u32; SHAPE_WORDS] {
             put_v(&mut w, 5, d.normal);
             put_f(&mut w, 8, d.radius);
         }
+        Shape::Box(b) => {
+            w[0] = 5;
+            put_v(&mut w, 2, b.center);
+            put_v(&mut w, 5, b.axes[0]);
+            put_v(&mut w, 8, b.axes[1]);
+            put_v(&mut w, 11, b.half_extents);
+        }
         // Faces; the scope check has refused every other shape.
         other => {
             w[0] = 4;
@@ -223,7 +230,8 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         words[at + 15] = field.rows() as u32;
         words[at + 16] = cells;
         let top = field.max_thickness();
-        // The band the layer may fill (an upper bound of the thickest cell), rounded up to f32.
+        // The band the layer may fill at the call's start (an upper bound of the thickest cell),
+        // rounded up to f32; the kernels keep it in the counters (see `bands`).
         put_f(&mut words, at + 17, top * (1.0 + 1e-6) + 1e-9);
         words[at + 18] = u32::from(target.role == Role::Substrate);
         let offsets = words.len();
@@ -235,6 +243,8 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
             words.push(i as i32 as u32);
             words.push(j as i32 as u32);
         }
+        // The thickness one quantum adds to one of its cells, m.
+        put_f(&mut words, at + 21, config.volume_quantum() / field.cell_area());
         cells += field.thickness().len() as u32;
     }
     let shapes_at = words.len();
@@ -277,8 +287,42 @@ pub fn thicknesses(job: &FlightJob<'_>) -> Vec<f32> {
     out
 }
 
-/// The parameters of `job` over `count` particles.
-pub fn params(job: &FlightJob<'_>, scene: &SceneWords, count: u32, nozzle_quanta: u32) -> Params {
+/// The counter words at a call's start: zero, but for each target's band (see `flight.wgsl`).
+pub fn counters(scene: &SceneWords, targets: usize, words: usize) -> Vec<u32> {
+    let mut out = vec![0u32; words];
+    for t in 0..targets {
+        out[TALLY_WORDS + TARGET_COUNTER_WORDS * t + 3] =
+            scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 17];
+    }
+    out
+}
+
+/// The `plan` words at a call's start: no cell listed, and each target's band (see
+/// `flight.wgsl`).
+pub fn plan(scene: &SceneWords, targets: usize) -> Vec<u32> {
+    let band = |t: usize| scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 17];
+    std::iter::once(0).chain((0..targets).map(band)).collect()
+}
+
+/// The layer epochs of `job`'s steps, each as (first step, step after its last).
+pub fn epochs(job: &FlightJob<'_>) -> Vec<(u64, u64)> {
+    let mut out = Vec::new();
+    let mut a = job.from;
+    while a < job.to {
+        let b = ((a / job.epoch.max(1) + 1) * job.epoch.max(1)).min(job.to);
+        out.push((a, b));
+        a = b;
+    }
+    out
+}
+
+/// The parameters of the steps `from..to` of `job` over `count` particles.
+pub fn params(
+    job: &FlightJob<'_>,
+    scene: &SceneWords,
+    (count, nozzle_quanta): (u32, u32),
+    (from, to): (u64, u64),
+) -> Params {
     let c = job.config;
     let g = c.motion.gravity;
     let integrator = match c.motion.integrator {
@@ -291,7 +335,7 @@ pub fn params(job: &FlightJob<'_>, scene: &SceneWords, count: u32, nozzle_quanta
         gravity_dt: [g.x as f32, g.y as f32, g.z as f32, c.dt as f32],
         min_drag: [lo.x as f32, lo.y as f32, lo.z as f32, c.motion.drag as f32],
         max_life: [hi.x as f32, hi.y as f32, hi.z as f32, (c.material.max_lifetime / c.dt) as f32],
-        steps: [job.from as u32, job.to as u32, count, integrator],
+        steps: [from as u32, to as u32, count, integrator],
         seed: [c.seed as u32, (c.seed >> 32) as u32, c.max_impacts_per_step, WORKGROUP * ROW_GROUPS],
         sizes: [job.targets.len() as u32, scene.shapes, scene.released, nozzle_quanta],
         tables: [scene.tables[0], scene.tables[1], scene.tables[2], scene.cells],

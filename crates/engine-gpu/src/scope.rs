@@ -30,7 +30,7 @@ fn refuse(feature: impl Into<String>, key: impl Into<String>) -> Result<(), Unsu
 }
 
 /// Checks that the GPU backend runs everything `config` asks for: rectangle targets without
-/// openings or erosion; plane, face, disk, sphere and cylinder obstacles; the built-in rebound
+/// openings or erosion; plane, face, disk, sphere, cylinder and box obstacles; the built-in rebound
 /// laws; any integrator; no gun's air and no impact log.
 pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
     if config.motion.air.is_some() {
@@ -68,9 +68,12 @@ pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
         let key = format!("obstacle[{i}] `{}`", o.name);
         for s in &o.shapes {
             match s {
-                Shape::Plane(_) | Shape::Face(_) | Shape::Disk(_) | Shape::Sphere(_) | Shape::Cylinder(_) => {
-                }
-                Shape::Box(_) => return refuse("box obstacles", format!("{key}.shape")),
+                Shape::Plane(_)
+                | Shape::Face(_)
+                | Shape::Disk(_)
+                | Shape::Sphere(_)
+                | Shape::Cylinder(_)
+                | Shape::Box(_) => {}
                 Shape::Triangle(_) => return refuse("mesh obstacles", format!("{key}.mesh")),
                 Shape::Shell(_) => return refuse("cylinder-shell obstacles", format!("{key}.shape")),
                 Shape::Custom(_) => return refuse("shapes defined outside the engine", key),

@@ -194,3 +194,45 @@ fn the_gpu_copy_of_the_layers_follows_them_cell_for_cell() {
         sim.failures().len()
     );
 }
+
+#[test]
+fn a_call_of_many_epochs_settles_each_on_the_gpu_as_the_engine_does() {
+    let Some(gpu) = common::own_gpu().map(std::sync::Arc::new) else { return };
+    // Cohesion every 0.1 s, strong enough that nothing fails, and no slump: calls of twenty
+    // 5-ms epochs, each depositing on the layer that the next reads, and the layers change only
+    // by deposits.
+    let strong = [
+        ("process.cohesion.shear_strength", 1e7),
+        ("process.cohesion.tensile_strength", 1e7),
+        ("process.slump.interval", 0.0),
+    ];
+    let sc = failing_layer(0.4, 3)
+        .with_all(&strong.map(|(k, v)| (k.to_string(), v.into())))
+        .expect("a valid override");
+    let mut sim = sc.build().expect("builds");
+    sim.set_flight_stage(Some(gpu.clone()));
+    gpu.take_profile();
+    let mut calls = 0;
+    while !sim.is_finished() {
+        sim.advance_call(sim.steps_to_call_end());
+        calls += 1;
+        // The GPU's layers after the call's last epoch, against the engine's once it booked and
+        // settled the call: the same deposits, added in f32 on one side and f64 on the other.
+        let settled = gpu.read_settled_layers().expect("reads back");
+        let layers: Vec<f64> = sim.targets().iter().flat_map(|t| t.surface.thickness().to_vec()).collect();
+        let worst = layers
+            .iter()
+            .zip(&settled)
+            .map(|(&t, &g)| (f64::from(g) - t).abs() / (t + 1e-9))
+            .fold(0.0, f64::max);
+        let covered = layers.iter().filter(|&&t| t > 0.0).count();
+        assert!(
+            covered > 100 && worst < 1e-5,
+            "call {calls}: {covered} cells, worst relative difference {worst:e}"
+        );
+    }
+    assert!(sim.failures().is_empty());
+    let p = gpu.take_profile();
+    assert_eq!(calls, 4, "a call per cohesion interval");
+    assert_eq!((p.calls, p.epochs), (4, 80), "every epoch flown once, in 4 calls");
+}

@@ -4,8 +4,9 @@
 
 mod common;
 
-use glam::DVec3;
-use spraysim_engine::collision::{Aabb, Face};
+use glam::{DQuat, DVec3};
+use spraysim_engine::collision::{Aabb, Face, OrientedBox, Primitive, Shape};
+use spraysim_engine::config::ObstacleConfig;
 use spraysim_engine::deposit::{DepositSurface, RectangleSurface, Surface, footprint_cells};
 use spraysim_engine::particles::{Particle, flags};
 use spraysim_engine::pipeline::{FlightJob, FlightStage};
@@ -41,17 +42,31 @@ impl Draws {
 }
 
 /// Where forward Euler (x += v Δt, then v += g Δt) from `x`, `v` first crosses the plane x = 0
-/// within `steps` steps of `dt`, in f64: the chord's crossing.
-fn euler_crossing(mut x: DVec3, mut v: DVec3, dt: f64, g: DVec3, steps: u32) -> Option<DVec3> {
-    for _ in 0..steps {
+/// within `steps` steps of `dt`, in f64: the chord's crossing, and the steps flown to it (the
+/// step of the crossing included).
+fn euler_crossing(mut x: DVec3, mut v: DVec3, dt: f64, g: DVec3, steps: u32) -> Option<(DVec3, u64)> {
+    for k in 0..steps {
         let x1 = x + v * dt;
         if x.x < 0.0 && x1.x >= 0.0 {
-            return Some(x.lerp(x1, -x.x / (x1.x - x.x)));
+            return Some((x.lerp(x1, -x.x / (x1.x - x.x)), u64::from(k) + 1));
         }
         x = x1;
         v += g * dt;
     }
     None
+}
+
+/// Steps forward Euler from `x`, `v` flies within `domain`, at most `steps`: the step that
+/// leaves it included.
+fn euler_steps_in(domain: &Aabb, mut x: DVec3, mut v: DVec3, dt: f64, g: DVec3, steps: u64) -> u64 {
+    for k in 1..=steps {
+        x += v * dt;
+        v += g * dt;
+        if x.cmplt(domain.min).any() || x.cmpgt(domain.max).any() {
+            return k;
+        }
+    }
+    steps
 }
 
 /// Positions of an f32 flight of up to 400 steps over coordinates up to 2 m round off by up to
@@ -80,6 +95,8 @@ fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_ed
         config: &config,
         from: 0,
         to: 400,
+        // One epoch: every flight meets the bare wall.
+        epoch: 400,
         particles: &particles,
         quanta: &quanta,
         targets: sim.targets(),
@@ -87,9 +104,16 @@ fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_ed
     };
     let report = gpu.fly(&job).expect("the GPU flies the job");
     let (mut judged, mut hits, mut near_edge) = (0, 0, 0);
+    // Particle-steps: a struck particle's flight ends with the step of its crossing; the others
+    // fly until they leave the domain, or all 400 steps.
+    let mut steps = 0;
     for (p, q) in particles.iter().zip(&report.particles) {
         let crossing = euler_crossing(p.anchor, p.anchor_velocity(), dt, g, 400);
-        let Some(point) = crossing else { continue };
+        steps += match crossing {
+            Some((_, k)) if q.impacts() > 0 => k,
+            _ => euler_steps_in(&config.domain, p.anchor, p.anchor_velocity(), dt, g, 400),
+        };
+        let Some((point, _)) = crossing else { continue };
         let margin = (1.0 - point.y.abs()).min(1.0 - (point.z - 1.0).abs());
         if margin.abs() < F32_REACH {
             near_edge += 1;
@@ -111,6 +135,7 @@ fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_ed
         }
     }
     assert!(judged > 3500 && hits > 2000 && hits < judged, "{judged} judged, {hits} hits");
+    assert_eq!(report.steps, steps, "particle-steps added up over the workgroups");
     let wall = &report.targets[0];
     assert!(wall.stuck.count >= hits as u64 && wall.stuck.count <= (hits + near_edge) as u64);
     assert_eq!(
@@ -122,6 +147,105 @@ fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_ed
     assert_eq!(cells.iter().map(|c| u64::from(c.hits)).sum::<u64>(), wall.hits);
     assert_eq!(u128::from(cells.iter().map(|c| c.quanta).sum::<u64>()), wall.stuck.quanta);
     assert!(cells.windows(2).all(|w| w[0].cell < w[1].cell), "cells listed once each, in order");
+}
+
+/// Where forward Euler from `x`, `v` first meets `shape` within `steps` steps of `dt`, in f64,
+/// by the engine's own test of each step's chord, with the steps flown to it.
+fn euler_hit(
+    shape: &impl Primitive,
+    mut x: DVec3,
+    mut v: DVec3,
+    dt: f64,
+    g: DVec3,
+    steps: u32,
+) -> Option<(DVec3, u64)> {
+    for k in 0..steps {
+        let x1 = x + v * dt;
+        if let Some(h) = shape.intersect(x, x1) {
+            return Some((h.point, u64::from(k) + 1));
+        }
+        x = x1;
+        v += g * dt;
+    }
+    None
+}
+
+#[test]
+fn euler_flights_strike_a_turned_box_where_the_engine_does() {
+    let Some(gpu) = common::gpu() else { return };
+    // A 0.3 × 0.2 × 0.4 m box turned about two axes, 0.4 m in front of the sticky wall; what
+    // strikes it sticks.
+    let turn = DQuat::from_rotation_z(0.5) * DQuat::from_rotation_x(0.3);
+    let shape = OrientedBox {
+        center: DVec3::new(-0.4, 0.1, 1.0),
+        axes: [turn * DVec3::X, turn * DVec3::Y, turn * DVec3::Z],
+        half_extents: DVec3::new(0.15, 0.1, 0.2),
+    };
+    let mut config = sticky_wall(0.0);
+    let impact = config.targets[0].impact.clone();
+    config.obstacles.push(ObstacleConfig { name: "box".into(), shapes: vec![Shape::Box(shape)], impact });
+    let sim = Simulation::new(config.clone()).expect("valid");
+    let (dt, g) = (config.dt, config.motion.gravity);
+    // The same box grown and shrunk by twice f32's reach: a flight that meets one and not the
+    // other grazes an edge, where either outcome is right within f32.
+    let grown = |by: f64| OrientedBox { half_extents: shape.half_extents + DVec3::splat(by), ..shape };
+    let (outer, inner) = (grown(F32_REACH), grown(-F32_REACH));
+    let mut draws = Draws(0x2545_f491_4f6c_dd1d);
+    let mut particles = Vec::new();
+    for id in 0..4000u32 {
+        let start = DVec3::new(-1.0 - 0.5 * draws.next(), 2.0 * draws.next() - 1.0, 0.5 + draws.next());
+        // Aimed at points around the box, half of them within it.
+        let aim = shape.center + DVec3::new(0.0, 0.6 * draws.next() - 0.3, 0.8 * draws.next() - 0.4);
+        let time = 0.05 + 0.2 * draws.next();
+        let v = (aim - start) / time - 0.5 * g * time;
+        particles.push(Particle::new(start, v, 0, id, flags::ALIVE));
+    }
+    let quanta = vec![NOZZLE; particles.len()];
+    let job = FlightJob {
+        config: &config,
+        from: 0,
+        to: 400,
+        epoch: 400,
+        particles: &particles,
+        quanta: &quanta,
+        targets: sim.targets(),
+        revised: &[None],
+    };
+    let report = gpu.fly(&job).expect("the GPU flies the job");
+    let (mut judged, mut hits) = (0, 0);
+    for (p, q) in particles.iter().zip(&report.particles) {
+        let (x, v) = (p.anchor, p.anchor_velocity());
+        let (wide, narrow) = (euler_hit(&outer, x, v, dt, g, 400), euler_hit(&inner, x, v, dt, g, 400));
+        if wide.is_some() != narrow.is_some() {
+            continue;
+        }
+        let Some(_) = narrow else {
+            // Misses the box by a margin: flies on, onto the wall or out of the domain.
+            assert!(
+                q.is_alive() || q.anchor.x.abs() < 1e-3 || q.anchor.abs().max_element() > 19.0,
+                "particle {} should have missed the box, stopped at {}",
+                p.id,
+                q.anchor
+            );
+            judged += 1;
+            continue;
+        };
+        let (point, _) = euler_hit(&shape, x, v, dt, g, 400).expect("within the grown box, so in the box");
+        judged += 1;
+        hits += 1;
+        assert!(!q.is_alive(), "particle {} should have struck the box at {point}", p.id);
+        let err = (q.anchor - point).length();
+        assert!(err < 0.5 * F32_REACH, "particle {}: struck {} from the engine's {point}", p.id, q.anchor);
+    }
+    assert!(judged > 3800 && hits > 1000 && hits < judged - 1000, "{judged} judged, {hits} hits");
+    let (boxed, wall) = (&report.obstacles[0], &report.targets[0]);
+    assert!(boxed.stuck.count >= hits as u64 && boxed.stuck.count <= hits as u64 + 4000 - judged as u64);
+    assert_eq!(boxed.hits, boxed.stuck.count, "every impact sticks");
+    // Every particle is somewhere: in flight, stuck on the box or the wall, or gone.
+    let alive = report.particles.iter().filter(|p| p.is_alive()).count() as u64;
+    let t = &report.tally;
+    let gone = t.left_domain.count + t.overspray.count + t.expired.count;
+    assert_eq!(alive + boxed.stuck.count + wall.stuck.count + wall.stuck_back.count + gone, 4000);
 }
 
 #[test]
@@ -154,6 +278,7 @@ fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
         config: &config,
         from: 0,
         to: 100,
+        epoch: 100,
         particles: &particles,
         quanta: &quanta,
         targets: sim.targets(),

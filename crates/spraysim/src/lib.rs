@@ -10,7 +10,9 @@
 //!   [`SimulationConfig`], and its modules [`collision`], [`deposit`], [`emission`],
 //!   [`events`], [`process`], …);
 //! - scenario files ([`scenario`]: [`Scenario`], presets, meshes, tool paths);
-//! - outputs ([`output`]: `metrics.json`, arrays, heatmaps, written all or nothing).
+//! - outputs ([`output`]: `metrics.json`, arrays, heatmaps, written all or nothing);
+//! - the choice of what flies the particles ([`backend`]: the CPU, or the GPU with the `gpu`
+//!   feature).
 //!
 //! ```
 //! use spraysim::{Scenario, Simulation};
@@ -42,7 +44,12 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod backend;
+
 pub use spraysim_engine::*;
+/// The GPU backend's crate (the `gpu` feature).
+#[cfg(feature = "gpu")]
+pub use spraysim_gpu as gpu;
 pub use spraysim_output as output;
 pub use spraysim_scenario as scenario;
 pub use spraysim_scenario::{Scenario, ScenarioError};

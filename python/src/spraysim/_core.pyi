@@ -271,9 +271,16 @@ class Simulation:
     (with the interpreter released, Ctrl-C still working) until the call before it has returned.
     A callback of a call (``run``'s ``progress``) cannot use its own simulation: that raises
     ``RuntimeError``.
+
+    ``backend`` is what flies the particles: ``"cpu"``, ``"gpu"`` (the GPU's kernels, on a
+    Vulkan adapter or Mesa's lavapipe; results equal the CPU's within statistics, not to the
+    bit; ``RuntimeError`` where it cannot run, saying why) or ``"auto"`` (the GPU where it can,
+    else the CPU with a ``RuntimeWarning``); None takes the scenario's ``simulation.backend``.
     """
 
-    def __new__(cls, scenario: _ScenarioSource = None, threads: int = 0) -> "Simulation": ...
+    def __new__(
+        cls, scenario: _ScenarioSource = None, threads: int = 0, backend: Optional[str] = None
+    ) -> "Simulation": ...
     def step(self, n: int = 1) -> None:
         """Advances by ``n`` time steps Δt (also past the configured duration); a negative ``n``
         raises ``ValueError``."""
@@ -305,6 +312,12 @@ class Simulation:
         """True once the configured duration has been simulated."""
     threads: int
     """Worker threads (0: one per core, at most 8 per core or 64); results do not depend on it."""
+    @property
+    def backend(self) -> Literal["cpu", "gpu"]:
+        """What flies the particles."""
+    @property
+    def device(self) -> str:
+        """What flies the particles, in words: ``"CPU"``, or ``"GPU (adapter, driver, API)"``."""
     @property
     def scenario(self) -> Scenario: ...
     @property
@@ -412,7 +425,10 @@ def presets_toml() -> str:
 
 @overload
 def run_many(
-    scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[False] = False
+    scenarios: Iterable[_ScenarioSource],
+    threads: int = 0,
+    maps: Literal[False] = False,
+    backend: Optional[str] = None,
 ) -> list[dict[str, Any]]:
     """Runs every scenario to its end in parallel inside Rust on ``threads`` threads (0: one
     per core), releasing the interpreter. ``scenarios`` is a list or any iterable (a generator
@@ -427,8 +443,14 @@ def run_many(
     limit needs it; each is built when a worker frees and dropped once its result is taken. Before anything runs, the batch is checked against the memory limit (the largest
     ``simulation.max_memory`` of its scenarios, by default half of the machine's memory): a
     batch whose results cannot all be kept raises ``MemoryError`` saying what to change
-    (``maps=False``, or smaller parts)."""
+    (``maps=False``, or smaller parts).
+
+    ``backend`` is as for ``Simulation``, for every run (None: each scenario's own); with
+    ``"gpu"`` the runs share one GPU, their calls taking turns on it."""
 @overload
 def run_many(
-    scenarios: Iterable[_ScenarioSource], threads: int = 0, maps: Literal[True] = ...
+    scenarios: Iterable[_ScenarioSource],
+    threads: int = 0,
+    maps: Literal[True] = ...,
+    backend: Optional[str] = None,
 ) -> list[Tuple[dict[str, Any], dict[str, npt.NDArray[np.float64]]]]: ...

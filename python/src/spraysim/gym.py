@@ -187,7 +187,8 @@ class SprayEnv(gymnasium.Env):
     ``action_mode`` (``"velocity"`` or ``"pose"``), ``start`` (``(u, v)``, m), ``episode_steps``,
     ``control_dt`` (s, rounded to whole steps), ``obs_shape`` (rows, cols), ``obs_max``,
     ``waste_weight``, ``wear_weight``, ``render_size`` (height, width in pixels), ``threads``
-    (worker threads per simulation). Unset values take the process's defaults
+    (worker threads per simulation), ``backend`` (what flies the particles, as for
+    :class:`Simulation`: ``"cpu"``, ``"gpu"`` or ``"auto"``; the scenario's when None). Unset values take the process's defaults
     (:data:`PROCESSES`). A value out of range raises ``ValueError`` naming it.
     ``target_thickness`` is the deprecated former name of ``goal``.
     """
@@ -218,6 +219,7 @@ class SprayEnv(gymnasium.Env):
         wear_weight: float = 0.1,
         render_size: Tuple[int, int] = (256, 256),
         threads: int = 1,
+        backend: Optional[str] = None,
         render_mode: Optional[str] = None,
         target_thickness: Optional[float] = None,
     ) -> None:
@@ -290,9 +292,10 @@ class SprayEnv(gymnasium.Env):
         self.waste_weight = float(waste_weight)
         self.wear_weight = float(wear_weight)
         self.threads = int(threads)
+        self.backend = backend
         self.render_mode = render_mode
 
-        probe = Simulation(self.scenario, threads=self.threads)
+        probe = Simulation(self.scenario, threads=self.threads, backend=self.backend)
         info = probe.target_info(target)
         if info["shape"] not in ("rectangle", "cylinder"):
             raise ValueError(
@@ -432,7 +435,7 @@ class SprayEnv(gymnasium.Env):
         super().reset(seed=seed)
         sim_seed = seed if seed is not None else int(self.np_random.integers(0, 2**31 - 1))
         scenario = self.scenario.set("simulation.seed", int(sim_seed))
-        self.sim = Simulation(scenario, threads=self.threads)
+        self.sim = Simulation(scenario, threads=self.threads, backend=self.backend)
         self._pose = self._initial_pose()
         p = self._pose
         position, axis = self._world(p["uv"], p["standoff"], p["tilt"])

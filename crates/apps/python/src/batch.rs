@@ -44,22 +44,34 @@ const METRICS_BYTES: f64 = 32.0 * 1024.0;
 /// maps)` pairs instead, where `maps` holds each target's thickness (m, a (rows, cols) float64
 /// array laid out as `Simulation.thickness`, NaN in openings) by target name. Results equal those of running the scenarios one
 /// after the other, whatever `threads`.
+///
+/// `backend` is what flies each run's particles, as for `Simulation`: `"cpu"`, `"gpu"` (one GPU
+/// shared by the runs, whose calls take turns on it while their other stages run in parallel)
+/// or `"auto"`; None takes each scenario's `simulation.backend`. With `"gpu"`, a scenario the
+/// GPU cannot run raises `RuntimeError` before any run starts.
 #[pyfunction]
 #[pyo3(
-    signature = (scenarios, threads = Threads::PER_CORE, maps = false),
-    text_signature = "(scenarios, threads=0, maps=False)"
+    signature = (scenarios, threads = Threads::PER_CORE, maps = false, backend = None),
+    text_signature = "(scenarios, threads=0, maps=False, backend=None)"
 )]
 pub fn run_many<'py>(
     py: Python<'py>,
     scenarios: &Bound<'py, PyAny>,
     threads: Threads,
     maps: bool,
+    backend: Option<&str>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
     let variants = read_all(py, scenarios, maps)?;
+    let stages = variants
+        .iter()
+        .enumerate()
+        .map(|(i, v)| crate::backend::stage_for(py, backend, &v.scenario, &format!("`scenarios[{i}]`")))
+        .collect::<PyResult<Vec<_>>>()?;
     let pool = work::pool(threads)?;
     let at_once = plan(&variants, work::workers(pool.as_deref()), maps)?;
     let mut results: Vec<Option<Bound<'py, PyAny>>> = (0..variants.len()).map(|_| None).collect();
-    let (configs, scenarios): (Vec<_>, Vec<_>) = variants.into_iter().map(|v| (v.config, v.scenario)).unzip();
+    let (configs, scenarios): (Vec<_>, Vec<_>) =
+        variants.into_iter().zip(stages).map(|(v, stage)| ((v.config, stage), v.scenario)).unzip();
     let finish = |index: usize, sim: &Simulation| Outcome::of(sim, &scenarios[index], maps);
     work::run_stream(py, configs, at_once, pool.as_deref(), finish, |index, outcome| {
         let outcome = outcome.map_err(|e| built_error(index, &e))?;

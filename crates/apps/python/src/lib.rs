@@ -17,12 +17,15 @@
 //! - a scenario value (a `dict` or a `Scenario.set` value) nests dicts and lists at most 32
 //!   levels deep (`convert::MAX_DEPTH`) and never holds itself (`ScenarioError`);
 //! - `threads=` is 0 (one per core) up to [`spraysim::max_threads`] (`ValueError`);
+//! - `backend=` is `"cpu"`, `"gpu"` or `"auto"` (`ValueError`), and `"gpu"` raises
+//!   `RuntimeError` where it cannot run (module `backend`);
 //! - `run_many` keeps at most `threads` simulations alive at a time and checks its results
 //!   against the memory limit before it starts (`MemoryError`);
 //! - a `Simulation` is used by one thread at a time: other threads' calls wait their turn, in
 //!   order, with the interpreter released (module `exclusive`).
 
 mod args;
+mod backend;
 mod batch;
 mod convert;
 mod errors;

@@ -44,9 +44,12 @@ struct Setup {
 
 /// A running simulation of a scenario.
 ///
-/// `Simulation(scenario=None, threads=0)`: `scenario` is a `Scenario`, a `dict`, a file path or
-/// None (the default scene); `threads` is the number of worker threads (0: one per core, at most
-/// `spraysim::max_threads()`). Results do not depend on `threads`. `step` and `run` release the
+/// `Simulation(scenario=None, threads=0, backend=None)`: `scenario` is a `Scenario`, a `dict`, a
+/// file path or None (the default scene); `threads` is the number of worker threads (0: one per
+/// core, at most `spraysim::max_threads()`). Results do not depend on `threads`. `backend` is
+/// what flies the particles: `"cpu"`, `"gpu"` (the GPU's kernels; results equal the CPU's within
+/// statistics, not to the bit) or `"auto"` (the GPU where it can, else the CPU with a
+/// `RuntimeWarning`); None takes the scenario's `simulation.backend`. `step` and `run` release the
 /// interpreter while they work, in slices of about 10 ms: other Python threads run meanwhile,
 /// and Ctrl-C raises `KeyboardInterrupt` within a slice, leaving the simulation valid at the
 /// step it reached.
@@ -138,13 +141,20 @@ impl PySimulation {
 impl PySimulation {
     #[new]
     #[pyo3(
-        signature = (scenario = None, threads = Threads::PER_CORE),
-        text_signature = "(scenario=None, threads=0)"
+        signature = (scenario = None, threads = Threads::PER_CORE, backend = None),
+        text_signature = "(scenario=None, threads=0, backend=None)"
     )]
-    fn new(py: Python<'_>, scenario: Option<&Bound<'_, PyAny>>, threads: Threads) -> PyResult<Self> {
+    fn new(
+        py: Python<'_>,
+        scenario: Option<&Bound<'_, PyAny>>,
+        threads: Threads,
+        backend: Option<&str>,
+    ) -> PyResult<Self> {
         let scenario = scenario_from(py, scenario)?;
         let pool = work::pool(threads)?;
-        let sim = Simulation::new(scenario.config()).map_err(|e| setup_error(&e))?;
+        let stage = crate::backend::stage_for(py, backend, &scenario, "the scenario")?;
+        let mut sim = Simulation::new(scenario.config()).map_err(|e| setup_error(&e))?;
+        sim.set_flight_stage(stage);
         Ok(PySimulation::build(sim, scenario, threads, pool))
     }
 
@@ -228,6 +238,20 @@ impl PySimulation {
         setup.pool = pool;
         setup.threads = threads.0;
         Ok(())
+    }
+
+    /// What flies the particles: `"cpu"` or `"gpu"`.
+    #[getter]
+    fn backend(&self, py: Python<'_>) -> PyResult<&'static str> {
+        self.read(py, |s| if s.flight_stage().is_some() { "gpu" } else { "cpu" })
+    }
+
+    /// What flies the particles, in words: `"CPU"`, or `"GPU (adapter, driver, API)"`.
+    #[getter]
+    fn device(&self, py: Python<'_>) -> PyResult<String> {
+        self.read(py, |s| {
+            s.flight_stage().map_or_else(|| "CPU".to_string(), |g| format!("GPU ({})", g.describe()))
+        })
     }
 
     /// The scenario being simulated.

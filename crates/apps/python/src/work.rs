@@ -12,6 +12,7 @@ use crate::args::Threads;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
+use spraysim::pipeline::FlightStage;
 use spraysim::{SetupError, Simulation, SimulationConfig};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
@@ -20,14 +21,13 @@ use std::time::{Duration, Instant};
 pub const SLICE: Duration = Duration::from_millis(10);
 
 /// Advances `sim` until it has done `until` steps or `deadline` has passed (at least one
-/// call if any step is due), up to a layer epoch at a time; returns the steps taken. How the
-/// steps are split into calls never changes a result.
+/// call if any step is due), a call at a time (a layer epoch, or several on the GPU); returns
+/// the steps taken. How the steps are split into calls never changes a result on the CPU.
 fn steps_until(sim: &mut Simulation, until: u64, deadline: Instant) -> u64 {
     let mut done = 0;
     while sim.steps_done() < until {
-        let k = sim.steps_to_epoch_end().min(until - sim.steps_done());
-        sim.advance(k);
-        done += k;
+        let k = sim.steps_to_call_end().min(until - sim.steps_done());
+        done += sim.advance_call(k);
         if Instant::now() >= deadline {
             break;
         }
@@ -80,6 +80,10 @@ pub fn workers(pool: Option<&rayon::ThreadPool>) -> usize {
     pool.map_or_else(rayon::current_num_threads, rayon::ThreadPool::current_num_threads)
 }
 
+/// A run of a batch: its configuration, and the flight stage its particles fly on (None: the
+/// CPU engine's own).
+pub type Job = (SimulationConfig, Option<Arc<dyn FlightStage>>);
+
 /// Runs simulations of `configs` to their ends on `pool` (rayon's global pool when None),
 /// detached, with at most `at_once` of them built and alive at a time: each is built when a
 /// worker frees, and once finished, `finish` makes its result from the index of its config and the
@@ -89,7 +93,7 @@ pub fn workers(pool: Option<&rayon::ThreadPool>) -> usize {
 /// signals raise. A simulation's result does not depend on `at_once`, the pool or the rounds.
 pub fn run_stream<R: Send>(
     py: Python<'_>,
-    configs: Vec<SimulationConfig>,
+    configs: Vec<Job>,
     at_once: usize,
     pool: Option<&rayon::ThreadPool>,
     finish: impl Fn(usize, &Simulation) -> R + Sync,
@@ -117,7 +121,7 @@ pub fn run_stream<R: Send>(
 }
 
 /// The configs still to run, with their indices.
-type Queue = Mutex<std::iter::Enumerate<std::vec::IntoIter<SimulationConfig>>>;
+type Queue = Mutex<std::iter::Enumerate<std::vec::IntoIter<Job>>>;
 
 /// Works on one slot of [`run_stream`] until `deadline`: steps its simulation, and when it
 /// finishes (or the slot is empty) builds the next one from `queue`.
@@ -134,9 +138,12 @@ fn work_slot<R>(
     loop {
         if slot.is_none() {
             let next = queue.lock().unwrap_or_else(PoisonError::into_inner).next();
-            let Some((index, config)) = next else { return };
+            let Some((index, (config, stage))) = next else { return };
             match Simulation::new(config) {
-                Ok(sim) => *slot = Some((index, sim)),
+                Ok(mut sim) => {
+                    sim.set_flight_stage(stage);
+                    *slot = Some((index, sim));
+                }
                 Err(e) => return report(index, Err(e)),
             }
         }

@@ -1,4 +1,5 @@
-//! A call's steps within one layer epoch.
+//! A call's steps: within one layer epoch on the engine's own flight, or several epochs on a
+//! flight stage that takes them (see [`super::stage`]).
 //!
 //! 1. **schedule** (serial, per step: a spawn count, ids, a pose): the births of the steps;
 //! 2. **fly** (one parallel region): every particle in flight, and every one born in these
@@ -48,9 +49,12 @@ pub(super) struct How<'a> {
     pub stage: Option<&'a dyn FlightStage>,
 }
 
-/// Runs steps `state.step .. state.step + steps`, all within one epoch, and settles the epoch if
-/// it ends with them. Returns the error of a flight stage that declined the call (which then
-/// flew on the engine's own flight).
+/// Runs one call from `state.step` of at most `steps` steps, and settles each epoch that ends
+/// within it. On the engine's own flight a call stays within one epoch. A flight stage that
+/// takes several epochs is handed, from an epoch's start, the epochs up to the first at whose
+/// end a layer stage falls due, the run ends, `steps` run out, or the stage's limits are
+/// reached; if it declines them, they fly on the engine's own flight, an epoch at a time.
+/// Returns the steps taken and the error of a flight stage that declined the call.
 pub(super) fn run(
     config: &SimulationConfig,
     plan: &Plan,
@@ -58,28 +62,104 @@ pub(super) fn run(
     how: &How<'_>,
     steps: u64,
     events: &mut dyn EventHandler,
-) -> Option<String> {
-    let (from, to) = (state.step, state.step + steps);
-    let (births, emissions) = emit::schedule(config, state, from, to);
-    let jets = emit::jets(config, state, from, to);
+) -> (u64, Option<String>) {
     // Only the engine's own flight gathers impacts as events.
-    let elsewhere = how.stage.filter(|_| how.capture == Capture::Nothing);
-    let (flown, declined) =
-        match elsewhere.map(|s| stage::fly(s, config, plan, state, how.workers, (from, to), &births)) {
-            Some(Ok(flown)) => (flown, None),
-            other => (fly(config, plan, state, how, (from, to), &births, &jets), other.and_then(Result::err)),
-        };
-    let (books, born, retired) = flown;
+    let stage = how.stage.filter(|_| how.capture == Capture::Nothing);
+    let (from, to, births, emissions) = schedule(config, plan, state, stage, steps);
+    let jets = emit::jets(config, state, from, to);
+    let mut declined = None;
+    if let Some(stage) = stage {
+        match stage::fly(stage, config, plan, state, how.workers, (from, to), &births) {
+            Ok(flown) => {
+                finish(config, plan, state, (from, to), flown, &emissions, events);
+                return (to - from, None);
+            }
+            Err(e) => declined = Some(e),
+        }
+    }
+    // The engine's own flight, an epoch at a time.
+    let mut a = from;
+    while a < to {
+        let b = epoch_end(plan, a).min(to);
+        let (lo, hi) = (births.partition_point(|x| x.step < a), births.partition_point(|x| x.step < b));
+        let (e0, e1) = (emissions.partition_point(|x| x.0 < a), emissions.partition_point(|x| x.0 < b));
+        let frames =
+            if jets.is_empty() { &jets[..] } else { &jets[(a - from) as usize..(b - from) as usize] };
+        let flown = fly(config, plan, state, how, (a, b), &births[lo..hi], frames);
+        finish(config, plan, state, (a, b), flown, &emissions[e0..e1], events);
+        a = b;
+    }
+    (to - from, declined)
+}
+
+/// The births and emission events of a call from `state.step`, and the step it ends at: the end
+/// of the epoch under way (at most `steps` on), or, for a stage that takes several epochs and
+/// from an epoch's start, further epochs while none ends with a layer stage due or the run's
+/// end, the stage's epochs and particles per call allow, and `steps` last.
+fn schedule(
+    config: &SimulationConfig,
+    plan: &Plan,
+    state: &mut State,
+    stage: Option<&dyn FlightStage>,
+    steps: u64,
+) -> (u64, u64, Vec<Births>, Vec<(u64, EmissionEvent)>) {
+    let from = state.step;
+    let last = from + steps;
+    let mut to = epoch_end(plan, from).min(last);
+    let (mut births, mut emissions) = emit::schedule(config, state, from, to);
+    let Some(stage) = stage.filter(|_| state.step == state.settled) else {
+        return (from, to, births, emissions);
+    };
+    let count = |b: &[Births]| b.iter().map(|x| x.count as usize).sum::<usize>();
+    let (max_epochs, max_particles) = (stage.epochs_per_call(), stage.particles_per_call());
+    // The particles a call holds: at most the swarm's slots and the births so far; another
+    // epoch is taken only if as many births as the last one's would still fit.
+    let (mut start, mut epochs, mut latest) = (from, 1, count(&births));
+    let mut held = state.swarm.len() + latest;
+    let due = |a: u64, b: u64| plan.stages.iter().any(|(every, _)| *every > 0 && b / every > a / every);
+    while to < last
+        && to != plan.total_steps
+        && epochs < max_epochs
+        && !due(start, to)
+        && held.saturating_add(latest) <= max_particles
+    {
+        let next = epoch_end(plan, to).min(last);
+        let (more, events) = emit::schedule(config, state, to, next);
+        latest = count(&more);
+        held += latest;
+        births.extend(more);
+        emissions.extend(events);
+        (start, to, epochs) = (to, next, epochs + 1);
+    }
+    (from, to, births, emissions)
+}
+
+/// The end of the epoch under way at step `s` (exclusive): the next multiple of the epoch, or
+/// the run's last step if that comes first.
+pub(super) fn epoch_end(plan: &Plan, s: u64) -> u64 {
+    let next = (s / plan.epoch + 1) * plan.epoch;
+    if s < plan.total_steps { next.min(plan.total_steps) } else { next }
+}
+
+/// Books what the steps `from..to` flew, adds the newborns still in flight to the swarm, and
+/// passes the steps' events on, settling each epoch that ends within them.
+fn finish(
+    config: &SimulationConfig,
+    plan: &Plan,
+    state: &mut State,
+    (from, to): (u64, u64),
+    (books, born, retired): (Books, Vec<Vec<Particle>>, usize),
+    emissions: &[(u64, EmissionEvent)],
+    events: &mut dyn EventHandler,
+) {
     state.retired += retired;
     let mut impacts = book(state, books);
     for p in born.into_iter().flatten() {
         state.swarm.push(p);
     }
     impacts.sort_unstable_by_key(|(s, e)| (*s, e.particle, e.impact));
-    let ends = to % plan.epoch == 0 || to == plan.total_steps;
-    dispatch(config, plan, state, (from, to), ends, &emissions, &impacts, events);
+    dispatch(config, plan, state, (from, to), emissions, &impacts, events);
     state.step = to;
-    declined
 }
 
 /// The parallel region: flies every particle of the swarm and every newborn of `births`
@@ -210,15 +290,15 @@ fn book(state: &mut State, books: Books) -> Vec<(u64, ImpactEvent)> {
     books.events
 }
 
-/// Passes the steps' events on in step order: each step's emission and impacts, then, at the
-/// epoch's end, its settling (with the failures it finds), and the step's end.
-#[allow(clippy::too_many_arguments)]
+/// Passes the steps' events on in step order: each step's emission and impacts, then, at an
+/// epoch's end, its settling (with the failures it finds), and the step's end. A flight stage's
+/// call of several epochs books their deposits together, so its first settling applies them
+/// all: no layer stage falls due before its last.
 fn dispatch(
     config: &SimulationConfig,
     plan: &Plan,
     state: &mut State,
     (from, to): (u64, u64),
-    ends: bool,
     emissions: &[(u64, EmissionEvent)],
     impacts: &[(u64, ImpactEvent)],
     events: &mut dyn EventHandler,
@@ -234,8 +314,8 @@ fn dispatch(
             events.impact(&impacts[i].1);
             i += 1;
         }
-        if ends && step + 1 == to {
-            super::settle::run(config, plan, state, to, events);
+        if epoch_end(plan, step) == step + 1 {
+            super::settle::run(config, plan, state, step + 1, events);
         }
         events.step_end(time + config.dt);
     }

@@ -368,7 +368,8 @@ impl Simulation {
     }
 
     /// Advances the simulation by `steps` time steps (also past the configured duration): an
-    /// epoch at a time, each in one parallel region. The same, to the bit, as `steps` calls of
+    /// epoch at a time, each in one parallel region (or, on a flight stage, in calls of one or
+    /// more epochs). On the engine's own flight, the same, to the bit, as `steps` calls of
     /// [`Simulation::step`].
     pub fn advance(&mut self, steps: u64) {
         self.advance_with(steps, &mut ());
@@ -378,6 +379,32 @@ impl Simulation {
     /// emission and impacts (in particle order), the failures found at an epoch's end, and the
     /// step's end.
     pub fn advance_with(&mut self, steps: u64, events: &mut dyn EventHandler) {
+        let mut left = steps;
+        while left > 0 {
+            left -= self.call(left, events);
+        }
+    }
+
+    /// Runs to the end of the configured duration, a call at a time (an epoch, or several on a
+    /// flight stage that takes them), calling `progress` after each.
+    pub fn run(&mut self, mut progress: impl FnMut(&Simulation)) {
+        while !self.is_finished() {
+            self.call(self.steps_to_call_end(), &mut ());
+            progress(self);
+        }
+    }
+
+    /// Advances by one call of at most `steps` steps, and returns the steps it took: an epoch
+    /// (to its end), or, on a flight stage that takes several, the epochs up to the first at
+    /// whose end a layer stage falls due. For loops that check on the simulation between calls
+    /// (a progress bar, an interrupt) without splitting a GPU's calls into epochs.
+    pub fn advance_call(&mut self, steps: u64) -> u64 {
+        self.call(steps, &mut ())
+    }
+
+    /// Runs one call of at most `steps` steps (see `epoch::run`), reporting to `events`; returns
+    /// the steps it took.
+    fn call(&mut self, steps: u64, events: &mut dyn EventHandler) -> u64 {
         let mut log = self.state.impact_log.take();
         // Impacts are gathered in the parallel region only as far as someone wants them.
         let capture = match &log {
@@ -391,30 +418,31 @@ impl Simulation {
             None => &mut none,
         };
         let mut both = Both(log_handler, events);
-        let mut left = steps;
-        while left > 0 {
-            let k = left.min(self.steps_to_epoch_end());
-            let how = epoch::How {
-                workers: &self.workers,
-                capture,
-                coasting: self.coasting,
-                stage: self.stage.as_deref(),
-            };
-            let declined = epoch::run(&self.config, &self.plan, &mut self.state, &how, k, &mut both);
-            if self.stage_error.is_none() {
-                self.stage_error = declined;
-            }
-            left -= k;
+        let how = epoch::How {
+            workers: &self.workers,
+            capture,
+            coasting: self.coasting,
+            stage: self.stage.as_deref(),
+        };
+        let (done, declined) = epoch::run(&self.config, &self.plan, &mut self.state, &how, steps, &mut both);
+        if self.stage_error.is_none() {
+            self.stage_error = declined;
         }
         self.state.impact_log = log;
+        done
     }
 
-    /// Runs to the end of the configured duration, an epoch at a time, calling `progress` after
-    /// each epoch.
-    pub fn run(&mut self, mut progress: impl FnMut(&Simulation)) {
-        while !self.is_finished() {
-            self.advance(self.steps_to_epoch_end());
-            progress(self);
+    /// Steps that one call may cover from now, at most: to the end of the epoch under way
+    /// ([`Simulation::steps_to_epoch_end`]), or, with a flight stage that takes several epochs
+    /// ([`FlightStage::epochs_per_call`]), to the run's end, of which a call takes the epochs up
+    /// to the first at whose end a layer stage falls due. A loop that advances by this (and
+    /// checks on the simulation in between) lets a GPU fly many epochs per call.
+    pub fn steps_to_call_end(&self) -> u64 {
+        match &self.stage {
+            Some(stage) if stage.epochs_per_call() > 1 && !self.is_finished() => {
+                self.plan.total_steps - self.state.step
+            }
+            _ => self.steps_to_epoch_end(),
         }
     }
 
@@ -422,10 +450,7 @@ impl Simulation {
     /// [`SimulationConfig::layer_epoch`], or the run's last step if that comes first (at least
     /// one).
     pub fn steps_to_epoch_end(&self) -> u64 {
-        let (step, epoch) = (self.state.step, self.plan.epoch);
-        let next = (step / epoch + 1) * epoch;
-        let end = if step < self.plan.total_steps { next.min(self.plan.total_steps) } else { next };
-        end - step
+        epoch::epoch_end(&self.plan, self.state.step) - self.state.step
     }
 
     /// Steps per layer epoch.

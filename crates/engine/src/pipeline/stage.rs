@@ -3,10 +3,15 @@
 //! hand back what they did as plain data: their states at the call's end, the fates and impacts
 //! in integer quanta, and per target the cells whose deposits and impacts changed.
 //!
-//! The rest of the epoch is the engine's either way: the schedule of the births, the booking,
-//! the settling of the layers and the layer stages at their intervals. A call whose impacts
-//! must be gathered as events (an impact log, an observer that wants impacts) flies on the
-//! engine's own flight, which alone gathers them, as does a call the stage declines.
+//! A stage may take several layer epochs in one call ([`FlightStage::epochs_per_call`]): then it
+//! adds each epoch's deposits to its own copy of the layers at that epoch's end, as the engine
+//! would, and the engine hands it the epochs up to the next one at whose end a layer stage falls
+//! due (or the run ends), so that nothing on the CPU must see the layers in between.
+//!
+//! The rest is the engine's either way: the schedule of the births, the booking, the settling of
+//! the layers and the layer stages at their intervals. A call whose impacts must be gathered as
+//! events (an impact log, an observer that wants impacts) flies on the engine's own flight,
+//! which alone gathers them, as does a call the stage declines (then epoch by epoch).
 
 use super::emit::Births;
 use super::kernel::Books;
@@ -37,6 +42,19 @@ pub trait FlightStage: Send + Sync + std::fmt::Debug {
     fn profile(&self) -> Option<String> {
         None
     }
+
+    /// The most layer epochs one call may span: 1 (the default), a call per epoch. A stage that
+    /// takes more must settle its own copy of the layers at each epoch's end within the call
+    /// (see [`FlightJob::epoch`]).
+    fn epochs_per_call(&self) -> u64 {
+        1
+    }
+
+    /// The most particles one call may hold, those in flight at its start and those born in it
+    /// (no limit by default): the engine ends a call of several epochs early to stay under it.
+    fn particles_per_call(&self) -> usize {
+        usize::MAX
+    }
 }
 
 /// The particles of one call and what they fly through.
@@ -48,8 +66,15 @@ pub struct FlightJob<'a> {
     pub from: u64,
     /// The step after its last: every particle flies to the start of step `to`.
     pub to: u64,
+    /// Steps per layer epoch: epochs end at the multiples of this between `from` and `to`, and
+    /// at `to`. A particle sees the layers as they stood at the start of the epoch it flies in:
+    /// at a multiple within the call, the stage adds what the epoch deposited on each cell
+    /// (quanta × [`SimulationConfig::volume_quantum`] / the cell's area, m) to its copy of the
+    /// layers before the next epoch flies. A call of one epoch needs none of this.
+    pub epoch: u64,
     /// The particles in flight, by increasing id: those of the swarm (from step `from`), then
-    /// the newborns of the call's steps (each from its birth step, [`Particle::born`]).
+    /// the newborns of the call's steps (each from its birth step, [`Particle::born`], in
+    /// whichever of the call's epochs that falls).
     pub particles: &'a [Particle],
     /// The volume each particle carries, quanta of [`SimulationConfig::volume_quantum`], in
     /// the same order.
@@ -77,7 +102,8 @@ pub struct FlightReport {
     pub targets: Vec<TargetTally>,
     /// What struck each obstacle, in the configuration's order.
     pub obstacles: Vec<ObstacleTally>,
-    /// Per target, the cells that gathered deposit or impacts, each once.
+    /// Per target, the cells that gathered deposit or impacts, each once, with their sums over
+    /// the call's epochs.
     pub cells: Vec<Vec<CellBook>>,
     /// Particle-steps flown.
     pub steps: u64,
@@ -128,6 +154,7 @@ pub(super) fn fly(
         config,
         from,
         to,
+        epoch: plan.epoch,
         particles: &particles,
         quanta: &quanta,
         targets: &state.targets,

@@ -19,12 +19,19 @@ pub struct Timed {
     inner: Arc<dyn FlightStage>,
     nanos: AtomicU64,
     calls: AtomicU64,
+    /// Calls of one epoch each, whatever `inner` takes.
+    per_epoch: bool,
 }
 
 impl Timed {
     /// `inner`, timed.
     pub fn new(inner: Arc<dyn FlightStage>) -> Timed {
-        Timed { inner, nanos: AtomicU64::new(0), calls: AtomicU64::new(0) }
+        Timed { inner, nanos: AtomicU64::new(0), calls: AtomicU64::new(0), per_epoch: false }
+    }
+
+    /// `inner`, timed, handed one epoch a call (as a stage that keeps no layers of its own is).
+    pub fn per_epoch(inner: Arc<dyn FlightStage>) -> Timed {
+        Timed { per_epoch: true, ..Timed::new(inner) }
     }
 
     /// Seconds spent in the stage and calls made since the last `take`, which zeroes them.
@@ -48,6 +55,14 @@ impl FlightStage for Timed {
 
     fn profile(&self) -> Option<String> {
         self.inner.profile()
+    }
+
+    fn epochs_per_call(&self) -> u64 {
+        if self.per_epoch { 1 } else { self.inner.epochs_per_call() }
+    }
+
+    fn particles_per_call(&self) -> usize {
+        self.inner.particles_per_call()
     }
 }
 
@@ -114,19 +129,26 @@ pub fn run_stage_rows(
         cpu.particles_per_second(),
         cpu.particles_per_second() / paper
     )?;
-    // Each run with the stage's time within it.
-    let (gpu, (inside, calls)) =
-        median_run(&reference, (all, m.repeats, Some(&on)), |r| (r, timed.take()), |r| r.0.wall)?;
-    writeln!(
-        out,
-        "| reference, stage | {:.4} | {:.3e} | {:.1} | {:.2} | {:.0} % | {calls} |",
-        gpu.wall,
-        gpu.particles_per_second(),
-        gpu.particles_per_second() / paper,
-        gpu.particles_per_second() / cpu.particles_per_second(),
-        100.0 * inside / gpu.wall,
-    )?;
-    profile(&on, out)?;
+    // Each run with the stage's time within it: in calls of as many epochs as the stage takes,
+    // then of one epoch each (the layers settled on the CPU between two).
+    let single = Arc::new(Timed::per_epoch(on.clone()));
+    for (name, stage, timed) in
+        [("stage", &on, &timed), ("stage, a call per epoch", &(single.clone() as _), &single)]
+    {
+        let (gpu, (inside, calls)) =
+            median_run(&reference, (all, m.repeats, Some(stage)), |r| (r, timed.take()), |r| r.0.wall)?;
+        writeln!(
+            out,
+            "| reference, {name} | {:.4} | {:.3e} | {:.1} | {:.2} | {:.0} % | {calls} |",
+            gpu.wall,
+            gpu.particles_per_second(),
+            gpu.particles_per_second() / paper,
+            gpu.particles_per_second() / cpu.particles_per_second(),
+            100.0 * inside / gpu.wall,
+        )?;
+        profile(stage, out)?;
+    }
+    timed.take();
     let raster = measure_on(&raster_pass(1e5)?, all, Some(&on))?;
     let (inside, calls) = timed.take();
     writeln!(

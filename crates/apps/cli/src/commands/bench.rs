@@ -29,10 +29,10 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
 
 /// The GPU backend's rows, and its storage per particle slot.
 fn gpu_rows(settings: &spraysim_bench::MatrixSettings) -> Result<()> {
-    let gpu = crate::backend::open_gpu()?;
+    let gpu = spraysim::backend::gpu()?;
     spraysim_bench::stage::run_stage_rows(gpu, settings, &mut std::io::stdout().lock())?;
     #[cfg(feature = "gpu")]
-    say!("GPU particle storage: {} bytes per particle slot", spraysim_gpu::BYTES_PER_SLOT);
+    say!("GPU particle storage: {} bytes per particle slot", spraysim::gpu::BYTES_PER_SLOT);
     Ok(())
 }
 

@@ -114,15 +114,16 @@ fn execute(
     let (start, redraw) = (Instant::now(), (sim.total_steps() / 200).max(1));
     recorder.observe(&sim)?;
     while !sim.is_finished() && !control::stop_requested() {
-        // An epoch at a time, stopping where a checkpoint, a view or a pause point is due.
+        // A call at a time (an epoch, or several on the GPU), stopping where a checkpoint, a view
+        // or a pause point is due.
         let now = sim.steps_done();
         let stops = [
             every.map(|k| k - now % k),
             recorder.steps_to_next(&sim),
             control::next_pause(now).map(|s| s - now),
         ];
-        let k = stops.into_iter().flatten().fold(sim.steps_to_epoch_end(), u64::min);
-        sim.advance(k);
+        let k = stops.into_iter().flatten().fold(sim.steps_to_call_end(), u64::min);
+        sim.advance_call(k);
         recorder.observe(&sim)?;
         if sim.steps_done() / redraw > now / redraw || sim.is_finished() {
             show_progress(&bar, &sim, start);
