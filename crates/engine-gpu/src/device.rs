@@ -7,11 +7,17 @@ use crate::GpuError;
 pub struct GpuOptions {
     /// Only a software adapter (Mesa's lavapipe): slow, but on every machine, for tests.
     pub software: bool,
-    /// The most layer epochs one call of the flight stage takes: 0 (the default) as many as
-    /// the layer stages' intervals and the GPU's memory allow; 1 a call per epoch, with the
-    /// layers settled on the CPU between two (slower: for comparisons).
+    /// The most layer epochs one call of the flight stage takes: 0 (the default)
+    /// [`EPOCHS_PER_CALL`], fewer where a layer stage falls due or the GPU's memory is full; 1 a
+    /// call per epoch, with the layers settled on the CPU between two (slower: for comparisons).
     pub max_epochs_per_call: u64,
 }
+
+/// The most layer epochs a call takes by default: 0.64 s of simulated time at the default
+/// epoch of 5 ms. Enough that the cost of a call (a submission and a wait, some milliseconds)
+/// is spread thin, few enough that a run without layer stages stays responsive to an interrupt
+/// and samples its births a call at a time, not all at once.
+pub const EPOCHS_PER_CALL: u64 = 128;
 
 /// An adapter and the device opened on it.
 #[derive(Debug)]

@@ -28,6 +28,7 @@ pub struct GpuFlight {
     gpu: Gpu,
     layout: wgpu::BindGroupLayout,
     fly: wgpu::ComputePipeline,
+    restore: wgpu::ComputePipeline,
     settle: wgpu::ComputePipeline,
     census: wgpu::ComputePipeline,
     gather: wgpu::ComputePipeline,
@@ -133,17 +134,17 @@ impl GpuFlight {
                 cache: None,
             })
         };
-        let (fly, settle, census, gather) =
-            (pipeline("fly"), pipeline("settle"), pipeline("census"), pipeline("gather"));
+        let (fly, restore, settle) = (pipeline("fly"), pipeline("restore"), pipeline("settle"));
+        let (census, gather) = (pipeline("census"), pipeline("gather"));
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Device(format!("the flight kernels do not build: {e}")));
         }
         let (buffers, profile) = (Mutex::new(Buffers::default()), Mutex::new(Profile::default()));
         let max_epochs = match options.max_epochs_per_call {
-            0 => u64::MAX,
+            0 => crate::device::EPOCHS_PER_CALL,
             n => n,
         };
-        Ok(GpuFlight { gpu, layout, fly, settle, census, gather, max_epochs, buffers, profile })
+        Ok(GpuFlight { gpu, layout, fly, restore, settle, census, gather, max_epochs, buffers, profile })
     }
 
     /// The adapter the kernels run on.
@@ -180,21 +181,15 @@ impl GpuFlight {
     /// Runs `job` on the GPU.
     fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
         let start = Instant::now();
+        // Laid out before the lock is taken: the conversions run on rayon's workers, and a worker
+        // that waits for them while holding the lock could take up another simulation's call,
+        // which would wait for the lock on the same thread.
+        let prepared = prepare(job);
         let mut b = self.buffers.lock().map_err(|_| GpuError::Device("a previous call failed".into()))?;
         // Forgotten until the call succeeds: a call that fails, or is refused, loses the layers'
         // changes the engine handed it.
         let held = std::mem::take(&mut b.mirror);
-        scope::check(job.config)?;
-        let scene = pack::scene_words(job);
-        let nozzle = job
-            .particles
-            .iter()
-            .zip(job.quanta)
-            .find(|(p, _)| p.flags() & spraysim_engine::particles::flags::RELEASED == 0)
-            .map_or(0, |(_, &q)| q);
-        let nozzle =
-            u32::try_from(nozzle).map_err(|_| GpuError::TooLarge("a nozzle particle's quanta".into()))?;
-        let slots: Vec<GpuParticle> = job.particles.par_iter().map(|p| GpuParticle::of(p, job)).collect();
+        let Prepared { scene, slots, nozzle } = prepared?;
         let n =
             u32::try_from(slots.len()).map_err(|_| GpuError::TooLarge("the particles of a call".into()))?;
         let limit = self.gpu.device.limits().max_storage_buffer_binding_size;
@@ -205,10 +200,13 @@ impl GpuFlight {
                 scene.cells
             )));
         }
+        let epochs = pack::epochs(job);
+        if epochs.is_empty() {
+            return Err(GpuError::Device("a call of no steps".into()));
+        }
         let counter_words = TALLY_WORDS
             + TARGET_COUNTER_WORDS * job.targets.len()
             + OBSTACLE_COUNTER_WORDS * job.config.obstacles.len();
-        let epochs = pack::epochs(job);
         let mirror = self.upload(&mut b, job, (&scene, &held), &slots, counter_words);
         let params = self.params(job, &scene, (n, nozzle), &epochs);
         let bind = self.bind_group(&b, &params)?;
@@ -221,6 +219,10 @@ impl GpuFlight {
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             let stride = self.params_stride();
+            let cells = groups(scene.cells + 1);
+            pass.set_bind_group(0, &bind, &[0]);
+            pass.set_pipeline(&self.restore);
+            pass.dispatch_workgroups(cells.0, cells.1, 1);
             for e in 0..epochs.len() {
                 pass.set_bind_group(0, &bind, &[(e as u64 * stride) as u32]);
                 pass.set_pipeline(&self.fly);
@@ -228,30 +230,30 @@ impl GpuFlight {
                 pass.dispatch_workgroups(x, y, 1);
                 pass.set_pipeline(&self.census);
                 pass.dispatch_workgroups(1, 1, 1);
-                // Between two epochs, and after the last (which the next call does not read but
-                // `read_settled_layers` does).
+                // After every epoch: between two, for the next one; after the last, for
+                // `read_settled_layers` (the next call starts from the layers it is handed).
                 pass.set_pipeline(&self.settle);
-                let (x, y) = groups(scene.cells);
-                pass.dispatch_workgroups(x, y, 1);
+                pass.dispatch_workgroups(cells.0, cells.1, 1);
                 pass.set_pipeline(&self.census);
                 pass.dispatch_workgroups(1, 1, 1);
             }
             pass.set_pipeline(&self.gather);
-            let (x, y) = groups(scene.cells);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.dispatch_workgroups(cells.0, cells.1, 1);
         }
         let (particles, counters) = (some(&b.particles)?, some(&b.counters)?);
         encoder.copy_buffer_to_buffer(particles, 0, &readback, 0, particle_bytes);
         encoder.copy_buffer_to_buffer(counters, 0, &readback, particle_bytes, counter_bytes);
         self.gpu.queue.submit([encoder.finish()]);
         let bytes = self.read(&readback, particle_bytes + counter_bytes)?;
-        let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..BYTES_PER_SLOT * slots.len()]);
         let words: &[u32] = bytemuck::cast_slice(&bytes[particle_bytes as usize..]);
         let flew = Instant::now();
         let listed = self.listed(&mut b, words[2])?;
         let gathered = Instant::now();
-        let report = report(job, &scene, flown, words, &listed);
         b.mirror = mirror;
+        // Turned into the engine's report without the lock (on rayon's workers, as above).
+        drop(b);
+        let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..BYTES_PER_SLOT * slots.len()]);
+        let report = report(job, &scene, flown, words, &listed);
         if let Ok(mut p) = self.profile.lock() {
             p.calls += 1;
             p.epochs += epochs.len() as u64;
@@ -293,8 +295,8 @@ impl GpuFlight {
     }
 
     /// Uploads the call's particles, scene and layers (only the spans that changed where the
-    /// GPU's copy, `held`, holds the same layers), each layer twice (as the epochs will see it,
-    /// and as the call found it), and the counters at their start; returns what the copy holds
+    /// GPU's copy, `held`, holds the same layers; as the call finds them, into the second half
+    /// of the layers' buffer), and the counters at their start; returns what the copy holds
     /// now.
     fn upload(
         &self,
@@ -324,19 +326,16 @@ impl GpuFlight {
             || job.revised.iter().any(Option::is_none);
         let layer = grow(device, &mut b.thickness, 8 * cells, storage);
         b.layer_words = cells;
+        // Into the second half, as the call finds the layers; `restore` copies it into the first.
         if fresh {
-            let all = pack::thicknesses(job);
-            queue.write_buffer(&layer, 0, bytemuck::cast_slice(&all));
-            queue.write_buffer(&layer, 4 * cells, bytemuck::cast_slice(&all));
+            queue.write_buffer(&layer, 4 * cells, bytemuck::cast_slice(&pack::thicknesses(job)));
         } else {
             for ((target, revised), &first) in job.targets.iter().zip(job.revised).zip(&scene.first_cells) {
                 let Some((_, changed)) = revised else { continue };
                 let (Some(&lo), Some(&hi)) = (changed.first(), changed.last()) else { continue };
                 let span: Vec<f32> =
                     target.surface.thickness()[lo as usize..=hi as usize].iter().map(|&t| t as f32).collect();
-                let at = 4 * u64::from(first + lo);
-                queue.write_buffer(&layer, at, bytemuck::cast_slice(&span));
-                queue.write_buffer(&layer, 4 * cells + at, bytemuck::cast_slice(&span));
+                queue.write_buffer(&layer, 4 * (cells + u64::from(first + lo)), bytemuck::cast_slice(&span));
             }
         }
         let start = pack::counters(scene, job.targets.len(), counters);
@@ -430,6 +429,30 @@ impl GpuFlight {
         readback.unmap();
         Ok(out)
     }
+}
+
+/// A call laid out for the kernels: its scene's words, its particle slots and a nozzle
+/// particle's quanta.
+struct Prepared {
+    scene: pack::SceneWords,
+    slots: Vec<GpuParticle>,
+    nozzle: u32,
+}
+
+/// Lays `job` out for the kernels, once the scope allows it.
+fn prepare(job: &FlightJob<'_>) -> Result<Prepared, GpuError> {
+    scope::check(job.config)?;
+    let scene = pack::scene_words(job);
+    let nozzle = job
+        .particles
+        .iter()
+        .zip(job.quanta)
+        .find(|(p, _)| p.flags() & spraysim_engine::particles::flags::RELEASED == 0)
+        .map_or(0, |(_, &q)| q);
+    let nozzle =
+        u32::try_from(nozzle).map_err(|_| GpuError::TooLarge("a nozzle particle's quanta".into()))?;
+    let slots = job.particles.par_iter().map(|p| GpuParticle::of(p, job)).collect();
+    Ok(Prepared { scene, slots, nozzle })
 }
 
 /// Bytes of one epoch's parameters.

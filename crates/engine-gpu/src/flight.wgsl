@@ -956,6 +956,17 @@ fn fly(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_
     }
 }
 
+// At a call's start: the layers the epochs read (the first half) are the layers as the call
+// found them (the second), whatever the last call left there.
+@compute @workgroup_size(64)
+fn restore(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = gid.x + gid.y * params.seed.w;
+    if (c > params.tables.w) {
+        return;
+    }
+    thickness[c] = thickness[params.tables.w + 1u + c];
+}
+
 // One workgroup: the cells listed and each target's band, copied into `plan`.
 @compute @workgroup_size(64)
 fn census(@builtin(local_invocation_index) lid: u32) {

@@ -2,10 +2,11 @@
 //!
 //! The GPU backend of spraysim: the engine's flight stage ([`FlightStage`]) as wgpu compute
 //! kernels in WGSL (`flight.wgsl`), one invocation per particle, flying it through every step
-//! of a call (a layer epoch) against the layers as they stood at the call's start. The engine
-//! keeps the rest of the pipeline: it schedules and samples the births, books what the kernels
-//! counted, settles the layers at the epoch's end and runs the layer stages (slump, cohesion,
-//! drip) on the CPU, whose released material flies on the GPU in the next call.
+//! of a layer epoch against the layers as they stood at the epoch's start, and a call's epochs
+//! (up to the next layer-stage run) in one submission, the layers settled on the GPU between
+//! two. The engine keeps the rest of the pipeline: it schedules and samples the births, books
+//! what the kernels counted, settles its own layers and runs the layer stages (slump,
+//! cohesion, drip) on the CPU, whose released material flies on the GPU in the next call.
 //!
 //! ```no_run
 //! use spraysim_engine::{Simulation, SimulationConfig};
@@ -53,7 +54,7 @@ mod flight;
 mod pack;
 mod scope;
 
-pub use device::{Gpu, GpuOptions};
+pub use device::{EPOCHS_PER_CALL, Gpu, GpuOptions};
 pub use flight::{GpuFlight, Profile};
 pub use pack::BYTES_PER_SLOT;
 pub use scope::{MAX_COEFFICIENTS, MAX_FOOTPRINT, MAX_IMPACTS_PER_STEP, MAX_SIEVES, Unsupported, check};

@@ -16,6 +16,8 @@ struct Declining {
     spanned: AtomicUsize,
     epochs: u64,
     particles: usize,
+    /// Each call's steps and steps per epoch.
+    jobs: std::sync::Mutex<Vec<(u64, u64, u64)>>,
 }
 
 impl Declining {
@@ -29,6 +31,7 @@ impl FlightStage for Declining {
         self.calls.fetch_add(1, Ordering::Relaxed);
         let epochs = job.to.div_ceil(job.epoch) - job.from / job.epoch;
         self.spanned.fetch_add(epochs as usize, Ordering::Relaxed);
+        self.jobs.lock().expect("not poisoned").push((job.from, job.to, job.epoch));
         assert!(job.particles.len() <= self.particles.max(1000), "{} particles", job.particles.len());
         Err("no device".into())
     }
@@ -126,8 +129,21 @@ fn calls_of_several_epochs_end_where_a_layer_stage_falls_due_and_fly_epoch_by_ep
     assert_eq!(three.calls.load(Ordering::Relaxed), 8);
     // At most 1000 particles a call, at 10⁴ particles/s (50 an epoch): calls end early.
     let small = Arc::new(Declining::new(1000, 1000));
-    same(&run_config(config, Some(small.clone())), &own);
+    same(&run_config(config.clone(), Some(small.clone())), &own);
     assert!(small.calls.load(Ordering::Relaxed) > 4);
+    // A call of several epochs ends at an epoch's end: advancing by 23 steps (epochs of 5) from
+    // the start hands the stage the epochs of steps 0..20 in one call, then 20..23 alone.
+    let mut partial = Simulation::new(config.clone()).expect("valid");
+    let recorder = Arc::new(Declining::new(1000, usize::MAX));
+    partial.set_flight_stage(Some(recorder.clone()));
+    partial.advance(23);
+    partial.advance(own.total_steps() - 23);
+    same(&partial, &own);
+    let jobs = recorder.jobs.lock().expect("not poisoned").clone();
+    assert_eq!(jobs[..2], [(0, 20, 5), (20, 23, 5)], "{jobs:?}");
+    for &(from, to, epoch) in &jobs {
+        assert!(to - from <= epoch || to % epoch == 0, "a call of several epochs ends within one: {jobs:?}");
+    }
     // Advancing step by step never hands a stage more than the epoch under way.
     let mut stepped = Simulation::new(SimulationConfig::example_wall(0.1)).expect("valid");
     let single = Arc::new(Declining::new(1000, usize::MAX));

@@ -94,8 +94,9 @@ pub(super) fn run(
 
 /// The births and emission events of a call from `state.step`, and the step it ends at: the end
 /// of the epoch under way (at most `steps` on), or, for a stage that takes several epochs and
-/// from an epoch's start, further epochs while none ends with a layer stage due or the run's
-/// end, the stage's epochs and particles per call allow, and `steps` last.
+/// from an epoch's start, further whole epochs (a call of several ends at an epoch's end) while
+/// none ends with a layer stage due or the run's end, `steps` last, and the stage's epochs and
+/// particles per call allow.
 fn schedule(
     config: &SimulationConfig,
     plan: &Plan,
@@ -110,23 +111,23 @@ fn schedule(
     let Some(stage) = stage.filter(|_| state.step == state.settled) else {
         return (from, to, births, emissions);
     };
-    let count = |b: &[Births]| b.iter().map(|x| x.count as usize).sum::<usize>();
     let (max_epochs, max_particles) = (stage.epochs_per_call(), stage.particles_per_call());
-    // The particles a call holds: at most the swarm's slots and the births so far; another
-    // epoch is taken only if as many births as the last one's would still fit.
-    let (mut start, mut epochs, mut latest) = (from, 1, count(&births));
-    let mut held = state.swarm.len() + latest;
+    // The particles a call holds: at most the swarm's slots and the births so far, and an epoch
+    // adds at most `rate × its length` births and one (the carried fraction).
+    let per_epoch = (config.emitter.spawn_rate * plan.epoch as f64 * config.dt).floor() as usize + 1;
+    let mut held = state.swarm.len() + births.iter().map(|b| b.count as usize).sum::<usize>();
+    let (mut start, mut epochs) = (from, 1);
     let due = |a: u64, b: u64| plan.stages.iter().any(|(every, _)| *every > 0 && b / every > a / every);
     while to < last
         && to != plan.total_steps
+        && epoch_end(plan, to) <= last
         && epochs < max_epochs
         && !due(start, to)
-        && held.saturating_add(latest) <= max_particles
+        && held.saturating_add(per_epoch) <= max_particles
     {
-        let next = epoch_end(plan, to).min(last);
+        let next = epoch_end(plan, to);
         let (more, events) = emit::schedule(config, state, to, next);
-        latest = count(&more);
-        held += latest;
+        held += more.iter().map(|b| b.count as usize).sum::<usize>();
         births.extend(more);
         emissions.extend(events);
         (start, to, epochs) = (to, next, epochs + 1);

@@ -405,6 +405,9 @@ impl Simulation {
     /// Runs one call of at most `steps` steps (see `epoch::run`), reporting to `events`; returns
     /// the steps it took.
     fn call(&mut self, steps: u64, events: &mut dyn EventHandler) -> u64 {
+        if steps == 0 {
+            return 0;
+        }
         let mut log = self.state.impact_log.take();
         // Impacts are gathered in the parallel region only as far as someone wants them.
         let capture = match &log {

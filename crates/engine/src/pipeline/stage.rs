@@ -26,7 +26,7 @@ use rayon::prelude::*;
 /// A backend that flies the particles of a call (see the module's docs).
 ///
 /// Implementations must be deterministic: the same job gives the same report. They fly each
-/// particle through the job's steps against the layers as they stood at the call's start, with
+/// particle through the job's steps against the layers as they stood at its epoch's start, with
 /// the configuration's motion, impact models and domain; what they do not model they must
 /// decline (an error) rather than approximate silently.
 pub trait FlightStage: Send + Sync + std::fmt::Debug {
@@ -66,11 +66,13 @@ pub struct FlightJob<'a> {
     pub from: u64,
     /// The step after its last: every particle flies to the start of step `to`.
     pub to: u64,
-    /// Steps per layer epoch: epochs end at the multiples of this between `from` and `to`, and
-    /// at `to`. A particle sees the layers as they stood at the start of the epoch it flies in:
-    /// at a multiple within the call, the stage adds what the epoch deposited on each cell
-    /// (quanta × [`SimulationConfig::volume_quantum`] / the cell's area, m) to its copy of the
-    /// layers before the next epoch flies. A call of one epoch needs none of this.
+    /// Steps per layer epoch: epochs end at the multiples of this between `from` and `to`. A
+    /// call of several epochs ends at an epoch's end (a multiple, or the run's last step); a
+    /// call of one may end within it. A particle sees the layers as they stood at the start of
+    /// the epoch it flies in: at a multiple within the call, the stage adds what the epoch
+    /// deposited on each cell (quanta × [`SimulationConfig::volume_quantum`] / the cell's area,
+    /// m) to its copy of the layers before the next epoch flies. A call of one epoch needs none
+    /// of this.
     pub epoch: u64,
     /// The particles in flight, by increasing id: those of the swarm (from step `from`), then
     /// the newborns of the call's steps (each from its birth step, [`Particle::born`], in
