@@ -41,6 +41,46 @@ impl Draws {
     }
 }
 
+/// 4000 particles, each from a start towards an aim (`path` draws both), reaching the aim's
+/// height after a flight of `shortest` to `shortest + 0.2` s under gravity `g`.
+fn aimed(
+    draws: &mut Draws,
+    g: DVec3,
+    shortest: f64,
+    mut path: impl FnMut(&mut Draws) -> (DVec3, DVec3),
+) -> Vec<Particle> {
+    (0..4000u32)
+        .map(|id| {
+            let (start, aim) = path(draws);
+            let time = shortest + 0.2 * draws.next();
+            let v = (aim - start) / time - 0.5 * g * time;
+            Particle::new(start, v, 0, id, flags::ALIVE)
+        })
+        .collect()
+}
+
+/// What the GPU reports of `particles` (each a nozzle particle) flown 400 steps in one epoch:
+/// every flight meets the bare surfaces.
+fn one_epoch(
+    gpu: &spraysim_gpu::GpuFlight,
+    config: &SimulationConfig,
+    sim: &Simulation,
+    particles: &[Particle],
+) -> spraysim_engine::pipeline::FlightReport {
+    let quanta = vec![NOZZLE; particles.len()];
+    let job = FlightJob {
+        config,
+        from: 0,
+        to: 400,
+        epoch: 400,
+        particles,
+        quanta: &quanta,
+        targets: sim.targets(),
+        revised: &[None],
+    };
+    gpu.fly(&job).expect("the GPU flies the job")
+}
+
 /// Where forward Euler (x += v Δt, then v += g Δt) from `x`, `v` first crosses the plane x = 0
 /// within `steps` steps of `dt`, in f64: the chord's crossing, and the steps flown to it (the
 /// step of the crossing included).
@@ -81,28 +121,12 @@ fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_ed
     let sim = Simulation::new(config.clone()).expect("valid");
     let (dt, g) = (config.dt, config.motion.gravity);
     let mut draws = Draws(0x9e37_79b9_7f4a_7c15);
-    let mut particles = Vec::new();
-    for id in 0..4000u32 {
-        let start = DVec3::new(-0.3 - 1.2 * draws.next(), 2.0 * draws.next() - 1.0, 2.0 * draws.next());
-        // Aimed at a point over the wall and up to 0.2 m past its edges, gravity allowed for.
-        let aim = DVec3::new(0.0, 2.4 * draws.next() - 1.2, 2.4 * draws.next() - 0.2);
-        let time = 0.03 + 0.2 * draws.next();
-        let v = (aim - start) / time - 0.5 * g * time;
-        particles.push(Particle::new(start, v, 0, id, flags::ALIVE));
-    }
-    let quanta = vec![NOZZLE; particles.len()];
-    let job = FlightJob {
-        config: &config,
-        from: 0,
-        to: 400,
-        // One epoch: every flight meets the bare wall.
-        epoch: 400,
-        particles: &particles,
-        quanta: &quanta,
-        targets: sim.targets(),
-        revised: &[None],
-    };
-    let report = gpu.fly(&job).expect("the GPU flies the job");
+    let particles = aimed(&mut draws, g, 0.03, |d| {
+        let start = DVec3::new(-0.3 - 1.2 * d.next(), 2.0 * d.next() - 1.0, 2.0 * d.next());
+        // Aimed at a point over the wall and up to 0.2 m past its edges.
+        (start, DVec3::new(0.0, 2.4 * d.next() - 1.2, 2.4 * d.next() - 0.2))
+    });
+    let report = one_epoch(&gpu, &config, &sim, &particles);
     let (mut judged, mut hits, mut near_edge) = (0, 0, 0);
     // Particle-steps: a struck particle's flight ends with the step of its crossing; the others
     // fly until they leave the domain, or all 400 steps.
@@ -191,27 +215,12 @@ fn euler_flights_strike_a_turned_box_where_the_engine_does() {
     let grown = |by: f64| OrientedBox { half_extents: shape.half_extents + DVec3::splat(by), ..shape };
     let (outer, inner) = (grown(F32_REACH), grown(-F32_REACH));
     let mut draws = Draws(0x2545_f491_4f6c_dd1d);
-    let mut particles = Vec::new();
-    for id in 0..4000u32 {
-        let start = DVec3::new(-1.0 - 0.5 * draws.next(), 2.0 * draws.next() - 1.0, 0.5 + draws.next());
+    let particles = aimed(&mut draws, g, 0.05, |d| {
+        let start = DVec3::new(-1.0 - 0.5 * d.next(), 2.0 * d.next() - 1.0, 0.5 + d.next());
         // Aimed at points around the box, half of them within it.
-        let aim = shape.center + DVec3::new(0.0, 0.6 * draws.next() - 0.3, 0.8 * draws.next() - 0.4);
-        let time = 0.05 + 0.2 * draws.next();
-        let v = (aim - start) / time - 0.5 * g * time;
-        particles.push(Particle::new(start, v, 0, id, flags::ALIVE));
-    }
-    let quanta = vec![NOZZLE; particles.len()];
-    let job = FlightJob {
-        config: &config,
-        from: 0,
-        to: 400,
-        epoch: 400,
-        particles: &particles,
-        quanta: &quanta,
-        targets: sim.targets(),
-        revised: &[None],
-    };
-    let report = gpu.fly(&job).expect("the GPU flies the job");
+        (start, shape.center + DVec3::new(0.0, 0.6 * d.next() - 0.3, 0.8 * d.next() - 0.4))
+    });
+    let report = one_epoch(&gpu, &config, &sim, &particles);
     let (mut judged, mut hits) = (0, 0);
     for (p, q) in particles.iter().zip(&report.particles) {
         let (x, v) = (p.anchor, p.anchor_velocity());
