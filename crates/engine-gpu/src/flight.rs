@@ -1,8 +1,9 @@
 //! [`GpuFlight`]: the engine's flight stage on the GPU. Each call uploads what changed (the
-//! particles, the scene's words, the rows of the layers that moved) and submits, in one go, the
-//! `fly` kernel over the particles for each layer epoch of the call with the `settle` kernel
-//! between two (the layers brought up to date on the GPU), then the `gather` kernel over the
-//! cells they listed; it reads back the particles, the counters and the listed cells once.
+//! particles, the scene's words, the rows of the layers that moved) and submits, in one go,
+//! `restore` (the layers the epochs read reset to those the call is handed), then for each
+//! layer epoch of the call the `fly` kernel over the particles and `settle` (the layers brought
+//! up to date with the call's deposits), each followed by `census`, then `gather` over the cells
+//! they listed; it reads back the particles, the counters and the listed cells once.
 
 use crate::device::{Gpu, GpuOptions};
 use crate::pack::{
@@ -158,8 +159,8 @@ impl GpuFlight {
         self.read_thickness(true)
     }
 
-    /// The GPU's own layers, m, as the last call left them: its copy with each of its epochs'
-    /// deposits added, as the engine adds them at the epochs' ends.
+    /// The GPU's own layers, m, as the last call left them: the layers it was handed with what
+    /// that call deposited added at each of its epochs' ends, in f32, as the engine adds them.
     pub fn read_settled_layers(&self) -> Result<Vec<f32>, GpuError> {
         self.read_thickness(false)
     }

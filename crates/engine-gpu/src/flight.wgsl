@@ -1,9 +1,11 @@
 // The flight of one particle per invocation through the steps of one layer epoch (or part of
 // one), against the layers as they stood at the epoch's start: the GPU twin of the engine's
-// `pipeline/kernel.rs`, in f32, with every surface tested in every step. A call of several
-// epochs dispatches `fly` once per epoch (its steps in the parameters at the epoch's dynamic
-// offset) and `settle` between two, which brings the layers up to date with what the call has
-// deposited so far; `gather` ends the call.
+// `pipeline/kernel.rs`, in f32, with every surface tested in every step. A call dispatches
+// `restore` (the layers as the call finds them), then, per epoch, `fly` (its steps in the
+// parameters at the epoch's dynamic offset), `census`, `settle` (the layers brought up to date
+// with what the call has deposited so far) and `census` again, and `gather` to end. `census`
+// copies the few counters that many invocations read into plain words (`plan`): an atomic load
+// of one word by every invocation is serialised, and would cost more than the flight.
 //
 // Layouts (word offsets, all u32; f32 through bitcast) are written by `pack.rs`, whose
 // constants these mirror. What a particle leaves behind is booked in integer atomics, whose

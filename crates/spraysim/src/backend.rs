@@ -33,10 +33,16 @@ pub struct Chosen {
 }
 
 impl Chosen {
-    /// What runs the flights, in words: `CPU`, or `GPU (adapter, driver)`.
+    /// What runs the flights, in words (see [`describe`]).
     pub fn describe(&self) -> String {
-        self.stage.as_ref().map_or_else(|| "CPU".to_string(), |s| format!("GPU ({})", s.describe()))
+        describe(self.stage.as_deref())
     }
+}
+
+/// What runs the flights of a simulation with flight stage `stage`, in words: `CPU`, or
+/// `GPU (adapter, driver, API)`.
+pub fn describe(stage: Option<&dyn FlightStage>) -> String {
+    stage.map_or_else(|| "CPU".to_string(), |s| format!("GPU ({})", s.describe()))
 }
 
 /// The flight stage `backend` asks for `scenario`: none for `cpu`; for `gpu` the GPU's, or an

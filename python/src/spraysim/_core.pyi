@@ -263,9 +263,10 @@ class Simulation:
 
     ``threads`` is the number of worker threads (0: one per core, at most 8 per core or 64,
     whichever is more; more raises ``ValueError``); results do not depend on it. ``step`` and
-    ``run`` release the interpreter while they work, in slices of about 10 ms: other Python
-    threads run meanwhile, and Ctrl-C raises ``KeyboardInterrupt`` within a slice, leaving the
-    simulation valid at the step it reached.
+    ``run`` release the interpreter while they work, in slices of about 10 ms (on the GPU, at
+    least one call of up to 128 layer epochs): other Python threads run meanwhile, and Ctrl-C
+    raises ``KeyboardInterrupt`` within a slice, leaving the simulation valid at the step it
+    reached.
 
     Thread-safe: calls from several threads take turns in the order they came, each waiting
     (with the interpreter released, Ctrl-C still working) until the call before it has returned.

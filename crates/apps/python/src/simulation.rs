@@ -50,9 +50,9 @@ struct Setup {
 /// what flies the particles: `"cpu"`, `"gpu"` (the GPU's kernels; results equal the CPU's within
 /// statistics, not to the bit) or `"auto"` (the GPU where it can, else the CPU with a
 /// `RuntimeWarning`); None takes the scenario's `simulation.backend`. `step` and `run` release the
-/// interpreter while they work, in slices of about 10 ms: other Python threads run meanwhile,
-/// and Ctrl-C raises `KeyboardInterrupt` within a slice, leaving the simulation valid at the
-/// step it reached.
+/// interpreter while they work, in slices of about 10 ms (on the GPU, at least one call of up to
+/// 128 layer epochs): other Python threads run meanwhile, and Ctrl-C raises `KeyboardInterrupt`
+/// within a slice, leaving the simulation valid at the step it reached.
 ///
 /// Thread-safe: calls from several threads take turns, a call waiting (with the interpreter
 /// released) until another thread's call on the same simulation has returned. A callback of a
@@ -249,9 +249,7 @@ impl PySimulation {
     /// What flies the particles, in words: `"CPU"`, or `"GPU (adapter, driver, API)"`.
     #[getter]
     fn device(&self, py: Python<'_>) -> PyResult<String> {
-        self.read(py, |s| {
-            s.flight_stage().map_or_else(|| "CPU".to_string(), |g| format!("GPU ({})", g.describe()))
-        })
+        self.read(py, |s| spraysim::backend::describe(s.flight_stage().map(|g| &**g)))
     }
 
     /// The scenario being simulated.
