@@ -258,6 +258,49 @@ fn euler_flights_strike_a_turned_box_where_the_engine_does() {
 }
 
 #[test]
+fn a_box_rebounds_what_strikes_its_face_as_that_face_alone_does() {
+    use spraysim_engine::process::rebound::AlwaysRebound;
+    let Some(gpu) = common::gpu() else { return };
+    // A perfectly elastic box, 0.1 m deep, its front face at x = -0.45 facing the particles, and
+    // that face alone: a flight that strikes the face rebounds once, the same way off either.
+    let bouncy = |shape: Shape| {
+        let mut c = sticky_wall(0.0);
+        let mut impact = c.targets[0].impact.clone();
+        impact.alpha = 1.0;
+        impact.rebound = Arc::new(AlwaysRebound);
+        (impact.restitution, impact.scatter, impact.rest_speed) = (1.0, 0.0, 0.0);
+        c.obstacles.push(ObstacleConfig { name: "block".into(), shapes: vec![shape], impact });
+        c
+    };
+    let block = OrientedBox {
+        center: DVec3::new(-0.4, 0.0, 1.0),
+        axes: [DVec3::X, DVec3::Y, DVec3::Z],
+        half_extents: DVec3::new(0.05, 0.3, 0.3),
+    };
+    let face = Face::new(DVec3::new(-0.45, 0.0, 1.0), DVec3::NEG_X, DVec3::Z, [0.6, 0.6]);
+    let (boxed, faced) = (bouncy(Shape::Box(block)), bouncy(Shape::Face(face)));
+    let g = boxed.motion.gravity;
+    let mut draws = Draws(0x5851_f42d_4c95_7f2d);
+    // Aimed well inside the face's edges, from 0.55 to 1.05 m in front of it.
+    let particles = aimed(&mut draws, g, 0.05, |d| {
+        let start = DVec3::new(-1.0 - 0.5 * d.next(), 0.8 * d.next() - 0.4, 0.6 + 0.8 * d.next());
+        (start, DVec3::new(-0.45, 0.5 * d.next() - 0.25, 1.0 + 0.5 * d.next() - 0.25))
+    });
+    let fly = |config: &SimulationConfig| {
+        let sim = Simulation::new(config.clone()).expect("valid");
+        one_epoch(&gpu, config, &sim, &particles)
+    };
+    let (off_box, off_face) = (fly(&boxed), fly(&faced));
+    assert_eq!(off_box.obstacles[0].hits, 4000, "each flight strikes the box once");
+    assert_eq!(off_face.obstacles[0].hits, 4000, "each flight strikes the face once");
+    for (a, b) in off_box.particles.iter().zip(&off_face.particles) {
+        assert_eq!((a.impacts(), b.impacts()), (1, 1), "particle {}", a.id);
+        let apart = (a.anchor - b.anchor).length();
+        assert!(apart < 1e-4, "particle {} ends {apart:.2e} m from where the face alone sends it", a.id);
+    }
+}
+
+#[test]
 fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
     let Some(gpu) = common::gpu() else { return };
     let config = sticky_wall(0.02);
