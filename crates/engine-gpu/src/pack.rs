@@ -291,17 +291,20 @@ pub fn thicknesses(job: &FlightJob<'_>) -> Vec<f32> {
 pub fn counters(scene: &SceneWords, targets: usize, words: usize) -> Vec<u32> {
     let mut out = vec![0u32; words];
     for t in 0..targets {
-        out[TALLY_WORDS + TARGET_COUNTER_WORDS * t + 3] =
-            scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 17];
+        out[TALLY_WORDS + TARGET_COUNTER_WORDS * t + 3] = band(scene, t);
     }
     out
+}
+
+/// Target `t`'s band at the call's start (f32 bits, m), as `scene_words` wrote it.
+fn band(scene: &SceneWords, t: usize) -> u32 {
+    scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 17]
 }
 
 /// The `plan` words at a call's start: no cell listed, and each target's band (see
 /// `flight.wgsl`).
 pub fn plan(scene: &SceneWords, targets: usize) -> Vec<u32> {
-    let band = |t: usize| scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 17];
-    std::iter::once(0).chain((0..targets).map(band)).collect()
+    std::iter::once(0).chain((0..targets).map(|t| band(scene, t))).collect()
 }
 
 /// The layer epochs of `job`'s steps, each as (first step, step after its last).
