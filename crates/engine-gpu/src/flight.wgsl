@@ -59,7 +59,10 @@ const SURFACE_OFFSET: f32 = 2e-6;
 
 // Model words (per owner: the targets, then the obstacles).
 const MODEL_WORDS: u32 = 64u;
-// Target words.
+// Target words: the face (centre, normal, up, right, half width and height), cols, rows, its
+// first cell over all grids, the band at the call's start, substrate or not, the footprint's
+// offsets and count, a quantum's thickness on one cell, and its openings' polygons, count and
+// hole bits (see `pack.rs`).
 const TARGET_WORDS: u32 = 32u;
 // Shape words.
 const SHAPE_WORDS: u32 = 16u;
@@ -466,9 +469,77 @@ fn cell_at(at: u32, u: f32, v: f32) -> u32 {
     return row * cols + col;
 }
 
+// True if the in-face point uv (m from the centre) lies in one of the openings of the target at
+// `at`: the even–odd rule over each polygon, as the engine's `Opening::contains`.
+fn in_opening(at: u32, uv: vec2<f32>) -> bool {
+    var w = scene[at + 22u];
+    for (var o = 0u; o < scene[at + 23u]; o++) {
+        let n = scene[w];
+        var inside = false;
+        for (var i = 0u; i < n; i++) {
+            let j = select(i + 1u, 0u, i + 1u == n);
+            let a = vec2<f32>(f(w + 1u + 2u * i), f(w + 2u + 2u * i));
+            let b = vec2<f32>(f(w + 1u + 2u * j), f(w + 2u + 2u * j));
+            if ((a.y > uv.y) != (b.y > uv.y) && uv.x < a.x + (uv.y - a.y) * (b.x - a.x) / (b.y - a.y)) {
+                inside = !inside;
+            }
+        }
+        if (inside) {
+            return true;
+        }
+        w += 1u + 2u * n;
+    }
+    return false;
+}
+
+// True if the cell (of the target at `at`) is cut away: its centre lies in an opening.
+fn is_hole(at: u32, cell: u32) -> bool {
+    let bits = scene[at + 24u];
+    return bits != 0u && (scene[bits + cell / 32u] & (1u << (cell % 32u))) != 0u;
+}
+
+// The cell a point uv (m from the centre) on the surface near an opening's edge is booked to:
+// `cell`, the one under it, unless it is cut away; then, as the engine's `GridSurface::solid`,
+// the solid cell whose centre is nearest uv in the first ring of cells round `cell` that holds
+// any (the lower index on a tie).
+fn solid(at: u32, cell: u32, uv: vec2<f32>) -> u32 {
+    if (!is_hole(at, cell)) {
+        return cell;
+    }
+    let cols = i32(scene[at + 14u]);
+    let rows = i32(scene[at + 15u]);
+    let size = vec2<f32>(2.0 * f(at + 12u) / f32(cols), 2.0 * f(at + 13u) / f32(rows));
+    let r0 = i32(cell) / cols;
+    let c0 = i32(cell) % cols;
+    for (var reach = 1; reach < max(cols, rows); reach++) {
+        var best = NO_CELL;
+        var nearest = 0.0;
+        for (var r = max(r0 - reach, 0); r <= min(r0 + reach, rows - 1); r++) {
+            for (var c = max(c0 - reach, 0); c <= min(c0 + reach, cols - 1); c++) {
+                let k = u32(r * cols + c);
+                if (max(abs(r - r0), abs(c - c0)) != reach || is_hole(at, k)) {
+                    continue;
+                }
+                let centre = (vec2<f32>(f32(c), f32(r)) + 0.5) * size - vec2<f32>(f(at + 12u), f(at + 13u));
+                let d = distance(centre, uv);
+                // Visited in ascending index: a tie keeps the lower.
+                if (best == NO_CELL || d < nearest) {
+                    best = k;
+                    nearest = d;
+                }
+            }
+        }
+        if (best != NO_CELL) {
+            return best;
+        }
+    }
+    return cell;
+}
+
 // The first hit of the segment on target t: its layer from the front (read as flat at the
 // thickness of the cell under the crossing, found again at most three times), or its bare
-// back.
+// back. A crossing of the bare surface inside an opening passes: a straight path that has
+// crossed its plane there meets nothing more of the target.
 fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let at = params.tables.x + TARGET_WORDS * t;
     let c = v3(at);
@@ -488,6 +559,8 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     // The fraction of the path at which it meets the target, and on which side.
     var s = NONE;
     var front = true;
+    // Whether the crossing is the bare surface's (not the top or side of a layer).
+    var bare = true;
     if (h0 > 0.0 && h0 <= own) {
         // Starting inside the layer, a path enters it only after leaving it: within one step it
         // meets only the bare surface.
@@ -524,6 +597,7 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
                 break;
             }
         }
+        bare = !side && layer <= 0.0;
         if (side) {
             // Met at half a cell back along the path (within it): outside the taller column,
             // over the one it came down.
@@ -541,11 +615,11 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     }
     let q = p0 + d * s;
     let uv = face_uv(at, q);
-    if (abs(uv.x) > hw || abs(uv.y) > hh) {
+    if (abs(uv.x) > hw || abs(uv.y) > hh || (bare && scene[at + 23u] != 0u && in_opening(at, uv))) {
         return no_hit();
     }
     if (front) {
-        return Hit(s, q, n, t, cell_at(at, uv.x, uv.y));
+        return Hit(s, q, n, t, solid(at, cell_at(at, uv.x, uv.y), uv));
     }
     return Hit(s, q, -n, t, NO_CELL);
 }
@@ -597,7 +671,7 @@ fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
             let k = col + i;
             let x = f32(i) * dx;
             let y = f32(j) * dy;
-            if (k < 0 || k >= cols || x * x + y * y > radius * radius) {
+            if (k < 0 || k >= cols || x * x + y * y > radius * radius || is_hole(at, u32(r * cols + k))) {
                 continue;
             }
             sum += thickness[first + u32(r * cols + k)];
@@ -828,7 +902,8 @@ fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: 
     }
 }
 
-// The deposit shared evenly over the footprint's cells inside the grid, the struck cell first.
+// The deposit shared evenly over the footprint's cells inside the grid and not cut away, the
+// struck cell (always solid) first.
 fn splat(at: u32, first: u32, cell: u32, q: vec2<u32>) {
     let cols = i32(scene[at + 14u]);
     let rows = i32(scene[at + 15u]);
@@ -840,13 +915,13 @@ fn splat(at: u32, first: u32, cell: u32, q: vec2<u32>) {
     for (var k = 0u; k < count; k++) {
         let c = col + bitcast<i32>(scene[offsets + 2u * k]);
         let r = row + bitcast<i32>(scene[offsets + 2u * k + 1u]);
-        n += select(0u, 1u, c >= 0 && c < cols && r >= 0 && r < rows);
+        n += select(0u, 1u, c >= 0 && c < cols && r >= 0 && r < rows && !is_hole(at, u32(r * cols + c)));
     }
     var j = 0u;
     for (var k = 0u; k < count; k++) {
         let c = col + bitcast<i32>(scene[offsets + 2u * k]);
         let r = row + bitcast<i32>(scene[offsets + 2u * k + 1u]);
-        if (c >= 0 && c < cols && r >= 0 && r < rows) {
+        if (c >= 0 && c < cols && r >= 0 && r < rows && !is_hole(at, u32(r * cols + c))) {
             deposit(first + u32(r * cols + c), share(q, n, j));
             j++;
         }

@@ -210,6 +210,32 @@ fn shape_words(s: &Shape, owner: usize) -> [u32; SHAPE_WORDS] {
     w
 }
 
+/// Lays out the openings of the rectangle `r`, whose words start at `at`: word 22 the offset of
+/// its polygons (each its corner count, then its corners' in-face coordinates, m, as f32 pairs),
+/// 23 their count, 24 the offset of its cells' hole bits (bit `c % 32` of word `c / 32`: cell
+/// `c`'s centre lies in an opening). All zero without openings.
+fn openings_words(words: &mut Vec<u32>, at: usize, r: &spraysim_engine::deposit::RectangleSurface) {
+    let openings = r.openings();
+    if openings.is_empty() {
+        return;
+    }
+    words[at + 22] = words.len() as u32;
+    words[at + 23] = openings.len() as u32;
+    for o in openings {
+        words.push(o.corners.len() as u32);
+        for &(u, v) in &o.corners {
+            words.extend([(u as f32).to_bits(), (v as f32).to_bits()]);
+        }
+    }
+    let cells = r.field.thickness().len();
+    let bits = words.len();
+    words[at + 24] = bits as u32;
+    words.resize(bits + cells.div_ceil(32), 0);
+    for c in (0..cells).filter(|&c| r.field.is_hole(c as u32)) {
+        words[bits + c / 32] |= 1 << (c % 32);
+    }
+}
+
 /// Lays out the models, targets (with their footprints), shapes and released volumes of `job`.
 pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
     let config = job.config;
@@ -245,6 +271,7 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         }
         // The thickness one quantum adds to one of its cells, m.
         put_f(&mut words, at + 21, config.volume_quantum() / field.cell_area());
+        openings_words(&mut words, at, r);
         cells += field.thickness().len() as u32;
     }
     let shapes_at = words.len();

@@ -29,8 +29,8 @@ fn refuse(feature: impl Into<String>, key: impl Into<String>) -> Result<(), Unsu
     Err(Unsupported { feature: feature.into(), key: key.into() })
 }
 
-/// Checks that the GPU backend runs everything `config` asks for: rectangle targets without
-/// openings or erosion; plane, face, disk, sphere, cylinder and box obstacles; the built-in rebound
+/// Checks that the GPU backend runs everything `config` asks for: rectangle targets (with
+/// openings) without erosion; plane, face, disk, sphere, cylinder and box obstacles; the built-in rebound
 /// laws; any integrator; no gun's air and no impact log.
 pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
     if config.motion.air.is_some() {
@@ -54,8 +54,7 @@ pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
                     format!("{key}.splat_radius"),
                 );
             }
-            Surface::Rectangle(r) if r.openings().is_empty() => {}
-            Surface::Rectangle(_) => return refuse("openings in a target", format!("{key}.opening")),
+            Surface::Rectangle(_) => {}
             Surface::Cylinder(_) => return refuse("cylinder-shell targets", format!("{key}.shape")),
             Surface::Mesh(_) => return refuse("mesh targets", format!("{key}.mesh")),
         }

@@ -1,13 +1,13 @@
 //! The flight kernel against closed forms, on random inputs with their boundary cases: forward
-//! Euler flights onto a wall (where they strike, and which miss its edges), and the 64-bit
-//! arithmetic of deposits shared over a footprint.
+//! Euler flights onto a wall (where they strike, and which miss its edges), through its openings
+//! and beside them, and the 64-bit arithmetic of deposits shared over a footprint.
 
 mod common;
 
 use glam::{DQuat, DVec3};
 use spraysim_engine::collision::{Aabb, Face, OrientedBox, Primitive, Shape};
 use spraysim_engine::config::ObstacleConfig;
-use spraysim_engine::deposit::{DepositSurface, RectangleSurface, Surface, footprint_cells};
+use spraysim_engine::deposit::{DepositSurface, Opening, RectangleSurface, Surface, footprint_cells};
 use spraysim_engine::particles::{Particle, flags};
 use spraysim_engine::pipeline::{FlightJob, FlightStage};
 use spraysim_engine::process::rebound::NeverRebound;
@@ -349,4 +349,149 @@ fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
     let took = |cell: u32| report.cells[0].iter().find(|c| c.cell == cell).map_or(0, |c| c.quanta);
     assert_eq!(took(struck), big / footprint + big % footprint);
     assert_eq!(took(struck + 1), big / footprint);
+}
+
+/// The wall's openings: a window left of the middle, an L-shaped box-out low on the right and a
+/// triangle (its edges slanted across the cells) high on the right, in the face's coordinates (m
+/// right of and up from its centre).
+fn openings() -> Vec<Opening> {
+    let window = Opening::rectangle((-0.4, 0.2), (0.5, 0.7));
+    let notch = Opening {
+        corners: vec![(0.2, -0.8), (0.8, -0.8), (0.8, -0.5), (0.5, -0.5), (0.5, -0.2), (0.2, -0.2)],
+    };
+    let skylight = Opening { corners: vec![(0.3, 0.3), (0.9, 0.4), (0.5, 0.9)] };
+    vec![window, notch, skylight]
+}
+
+/// Whether the engine's choice of the solid cell for the in-face point `(u, v)` is clear within
+/// f32: the point lies in a solid cell, or in a cut-away one whose nearest solid centre (in the
+/// first ring of cells round it that holds any) is nearer than the next by `2 × F32_REACH`.
+fn solid_cell_is_clear(field: &spraysim_engine::deposit::HeightField, (u, v): (f64, f64)) -> bool {
+    let cell = field.cell_at(u, v);
+    if !field.is_hole(cell) {
+        return true;
+    }
+    let (cols, rows) = (field.cols() as i64, field.rows() as i64);
+    let (r0, c0) = (i64::from(cell) / cols, i64::from(cell) % cols);
+    for reach in 1..cols.max(rows) {
+        let mut d: Vec<f64> = (r0 - reach..=r0 + reach)
+            .flat_map(|r| (c0 - reach..=c0 + reach).map(move |c| (r, c)))
+            .filter(|&(r, c)| (r - r0).abs().max((c - c0).abs()) == reach)
+            .filter(|&(r, c)| (0..rows).contains(&r) && (0..cols).contains(&c))
+            .map(|(r, c)| (r * cols + c) as u32)
+            .filter(|&k| !field.is_hole(k))
+            .map(|k| {
+                let (cu, cv) = field.cell_center(k);
+                (cu - u).hypot(cv - v)
+            })
+            .collect();
+        if !d.is_empty() {
+            d.sort_by(f64::total_cmp);
+            return d.len() == 1 || d[1] - d[0] > 2.0 * F32_REACH;
+        }
+    }
+    false
+}
+
+/// Whether the outcome of a crossing of the wall at the in-face point `(u, v)` is clear within
+/// f32: the point lies clear of the wall's edges, the openings' edges, the cells' borders and any
+/// tie between solid cells.
+fn clear_within_f32(field: &spraysim_engine::deposit::HeightField, (u, v): (f64, f64)) -> bool {
+    let (cell_w, cell_h) = field.cell_size();
+    let border = |x: f64, size: f64| {
+        let f = (x / size).rem_euclid(1.0);
+        f.min(1.0 - f) * size
+    };
+    let edge = (1.0 - u.abs()).abs().min((1.0 - v.abs()).abs());
+    let opening = openings().iter().map(|o| o.distance(u, v)).fold(f64::INFINITY, f64::min);
+    edge.min(opening).min(border(u + 1.0, cell_w)).min(border(v + 1.0, cell_h)) > F32_REACH
+        && (u.abs().max(v.abs()) > 1.0 || solid_cell_is_clear(field, (u, v)))
+}
+
+/// 4000 particles flying onto `face` under `g`: half aimed anywhere over it and past its edges,
+/// half within 1.5 cells (of `cell` m) of an opening's edge.
+fn aimed_round_openings(face: &Face, g: DVec3, cell: f64) -> Vec<Particle> {
+    let on_face = |(u, v): (f64, f64)| face.center + face.right * u + face.up * v;
+    let edges: Vec<((f64, f64), (f64, f64))> = openings()
+        .iter()
+        .flat_map(|o| (0..o.corners.len()).map(|i| (o.corners[i], o.corners[(i + 1) % o.corners.len()])))
+        .collect();
+    let mut draws = Draws(0x6a09_e667_f3bc_c909);
+    aimed(&mut draws, g, 0.03, |d| {
+        let start = DVec3::new(-0.3 - 1.2 * d.next(), 2.0 * d.next() - 1.0, 2.0 * d.next());
+        if d.next() < 0.5 {
+            return (start, DVec3::new(0.0, 2.2 * d.next() - 1.1, 2.2 * d.next() - 0.1));
+        }
+        let ((u0, v0), (u1, v1)) = edges[(d.next() * edges.len() as f64) as usize % edges.len()];
+        let f = d.next();
+        let jitter = |d: &mut Draws| 3.0 * cell * (d.next() - 0.5);
+        (start, on_face((u0 + f * (u1 - u0) + jitter(d), v0 + f * (v1 - v0) + jitter(d))))
+    })
+}
+
+#[test]
+fn flights_pass_through_openings_and_what_strikes_beside_them_deposits_on_solid_cells_alone() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut config = sticky_wall(0.02);
+    let face = Face::new(DVec3::new(0.0, 0.0, 1.0), DVec3::NEG_X, DVec3::Z, [2.0, 2.0]);
+    let surface = RectangleSurface::new(face, 256, 256, 0.02).with_openings(openings());
+    config.targets[0].surface = Surface::Rectangle(surface);
+    let sim = Simulation::new(config.clone()).expect("valid");
+    let Surface::Rectangle(wall) = &sim.targets()[0].surface else { panic!("the wall is a rectangle") };
+    let field = &wall.field;
+    let (dt, g) = (config.dt, config.motion.gravity);
+    let in_face = |p: DVec3| ((p - face.center).dot(face.right), (p - face.center).dot(face.up));
+    // Only flights whose outcome f32 cannot change are flown.
+    let particles: Vec<Particle> = aimed_round_openings(&face, g, field.cell_size().0)
+        .into_iter()
+        .filter(|p| {
+            euler_crossing(p.anchor, p.anchor_velocity(), dt, g, 400)
+                .is_none_or(|(x, _)| clear_within_f32(field, in_face(x)))
+        })
+        .collect();
+    let report = one_epoch(&gpu, &config, &sim, &particles);
+    // What the engine books: each flight that crosses the solid wall strikes it and shares its
+    // volume evenly over the solid cells of the footprint round the solid cell it is booked to,
+    // the struck one taking the remainder.
+    let (mut hits, mut quanta) = (vec![0u32; field.thickness().len()], vec![0u64; field.thickness().len()]);
+    let (mut struck, mut through, mut rim) = (0u64, 0, 0);
+    for (p, q) in particles.iter().zip(&report.particles) {
+        let Some((point, _)) = euler_crossing(p.anchor, p.anchor_velocity(), dt, g, 400) else { continue };
+        let (u, v) = in_face(point);
+        if u.abs() > 1.0 || v.abs() > 1.0 {
+            continue;
+        }
+        if openings().iter().any(|o| o.contains(u, v)) {
+            through += 1;
+            assert_eq!(q.impacts(), 0, "particle {} passes through the opening at ({u:.3}, {v:.3})", p.id);
+            continue;
+        }
+        struck += 1;
+        assert!(!q.is_alive(), "particle {} should have struck the wall at ({u:.3}, {v:.3})", p.id);
+        let cell = wall.cell_at(0, point);
+        // Struck beside an opening, in a cell whose centre it covers: booked to a solid one.
+        rim += usize::from(field.is_hole(field.cell_at(u, v)));
+        assert!(!field.is_hole(cell));
+        hits[cell as usize] += 1;
+        let mut footprint = Vec::new();
+        wall.footprint(cell, &mut |c| footprint.push(c));
+        let n = footprint.len() as u64;
+        for (k, &c) in footprint.iter().enumerate() {
+            quanta[c as usize] += NOZZLE / n + if k == 0 { NOZZLE % n } else { 0 };
+        }
+    }
+    assert!(
+        struck > 1500 && through > 800 && rim > 20,
+        "{struck} struck ({rim} on an opening's rim), {through} through the openings"
+    );
+    assert_eq!(report.targets[0].stuck.count, struck);
+    let listed = &report.cells[0];
+    for c in listed {
+        assert!(!field.is_hole(c.cell), "cell {} lies in an opening, yet holds a deposit", c.cell);
+        assert_eq!(c.hits, hits[c.cell as usize], "impacts in cell {}", c.cell);
+        assert_eq!(c.quanta, quanta[c.cell as usize], "deposit in cell {}", c.cell);
+    }
+    let expected = quanta.iter().filter(|&&q| q > 0).count();
+    assert_eq!(listed.iter().filter(|c| c.quanta > 0).count(), expected, "the cells that take a share");
+    assert_eq!(listed.iter().map(|c| u128::from(c.quanta)).sum::<u128>(), u128::from(struck * NOZZLE));
 }
