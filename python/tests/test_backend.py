@@ -76,16 +76,17 @@ def test_run_many_on_the_gpu_repeats_single_runs_to_the_bit(short, gpu_or_skip):
 
 def test_a_scenario_outside_the_gpus_scope_is_refused_or_run_on_the_cpu(short):
     # The scope is checked before any adapter is looked for: this holds on any machine.
-    eroding = short.set("process.erosion", {"model": "finnie"})
-    with pytest.raises(RuntimeError, match="erosion"):
-        Simulation(eroding, backend="gpu")
-    with pytest.raises(RuntimeError, match=r"scenarios\[1\].*erosion"):
-        spraysim.run_many([short, eroding], backend="gpu")
+    # A paint gun's air: droplets carried in a jet, which only the CPU engine flies.
+    gun = short.set("process.preset", "painting").set("process.gun", "hvlp")
+    with pytest.raises(RuntimeError, match="gun's air"):
+        Simulation(gun, backend="gpu")
+    with pytest.raises(RuntimeError, match=r"scenarios\[1\].*gun's air"):
+        spraysim.run_many([short, gun], backend="gpu")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        sim = Simulation(eroding, backend="auto")
+        sim = Simulation(gun, backend="auto")
     assert sim.backend == "cpu"
-    assert any(issubclass(w.category, RuntimeWarning) and "erosion" in str(w.message) for w in caught)
+    assert any(issubclass(w.category, RuntimeWarning) and "gun's air" in str(w.message) for w in caught)
 
 
 def test_the_gym_environment_sprays_on_the_gpu(gpu_or_skip):

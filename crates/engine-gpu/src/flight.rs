@@ -70,6 +70,7 @@ struct Buffers {
     cells: Option<wgpu::Buffer>,
     listed: Option<wgpu::Buffer>,
     plan: Option<wgpu::Buffer>,
+    wear: Option<wgpu::Buffer>,
     readback: Option<wgpu::Buffer>,
     /// Per target, the identity of the layer the GPU's copy holds and its first cell there
     /// (empty: the copy holds nothing known).
@@ -118,6 +119,7 @@ impl GpuFlight {
                 entry(5, rw),
                 entry(6, rw),
                 entry(7, rw),
+                entry(8, rw),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -249,12 +251,13 @@ impl GpuFlight {
         let words: &[u32] = bytemuck::cast_slice(&bytes[particle_bytes as usize..]);
         let flew = Instant::now();
         let listed = self.listed(&mut b, words[2])?;
+        let wear = if scene.erodes { self.listed_wear(&mut b, scene.cells, words[2])? } else { Vec::new() };
         let gathered = Instant::now();
         b.mirror = mirror;
         // Turned into the engine's report without the lock (on rayon's workers, as above).
         drop(b);
         let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..BYTES_PER_SLOT * slots.len()]);
-        let report = report(job, &scene, flown, words, &listed);
+        let report = report(job, &scene, flown, words, (&listed, &wear));
         if let Ok(mut p) = self.profile.lock() {
             p.calls += 1;
             p.epochs += epochs.len() as u64;
@@ -349,6 +352,8 @@ impl GpuFlight {
         let cells = 16 * (u64::from(scene.cells) + 1);
         grow(device, &mut b.cells, cells, storage);
         grow(device, &mut b.listed, cells, storage);
+        // Where a target erodes: the cells' wear counters, then the listed cells' copies.
+        grow(device, &mut b.wear, if scene.erodes { 2 * cells } else { 16 }, storage);
         layout
     }
 
@@ -362,6 +367,7 @@ impl GpuFlight {
             some(&b.cells)?,
             some(&b.listed)?,
             some(&b.plan)?,
+            some(&b.wear)?,
         ];
         let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
             .iter()
@@ -394,6 +400,23 @@ impl GpuFlight {
         }
         let listed = some(&b.listed)?.clone();
         let data = self.copy_out(b, &listed, 0, 16 * u64::from(count))?;
+        Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
+    }
+
+    /// The wear of the `count` cells listed (after the `cells` cells' counters), each as coating
+    /// (low, high) and substrate (low, high), WEAR_QUANTUMs; the copies are cleared once read,
+    /// so that a later call's counters, which may lie there, start at zero.
+    fn listed_wear(&self, b: &mut Buffers, cells: u32, count: u32) -> Result<Vec<[u32; 4]>, GpuError> {
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let wear = some(&b.wear)?.clone();
+        let (at, bytes) = (16 * (u64::from(cells) + 1), 16 * u64::from(count));
+        let data = self.copy_out(b, &wear, at, bytes)?;
+        let mut encoder =
+            self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        encoder.clear_buffer(&wear, at, Some(bytes));
+        self.gpu.queue.submit([encoder.finish()]);
         Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
     }
 
@@ -505,13 +528,14 @@ fn tallied(w: &[u32], at: usize) -> Tallied {
     Tallied { count: u64::from(w[at]), quanta: Quanta::from(w[at + 1]) | (Quanta::from(w[at + 2]) << 32) }
 }
 
-/// The report of `job` from the particles flown, the counter words and the listed cells.
+/// The report of `job` from the particles flown, the counter words, and the listed cells with
+/// their wear (none where no target erodes).
 fn report(
     job: &FlightJob<'_>,
     scene: &pack::SceneWords,
     flown: &[GpuParticle],
     w: &[u32],
-    listed: &[[u32; 4]],
+    (listed, wear): (&[[u32; 4]], &[[u32; 4]]),
 ) -> FlightReport {
     let particles = flown.par_iter().zip(job.particles).map(|(g, p)| g.update(p)).collect();
     let slot = |k: usize| tallied(w, 4 + 4 * k);
@@ -551,11 +575,12 @@ fn report(
         })
         .collect();
     let mut cells: Vec<Vec<CellBook>> = vec![Vec::new(); job.targets.len()];
-    for &[cell, lo, hi, hits] in listed {
+    let pair = |lo: u32, hi: u32| u64::from(lo) | (u64::from(hi) << 32);
+    for (k, &[cell, lo, hi, hits]) in listed.iter().enumerate() {
         // The target whose grid holds the cell: the last whose first cell is not past it.
         let t = scene.first_cells.partition_point(|&f| f <= cell).saturating_sub(1);
-        let quanta = u64::from(lo) | (u64::from(hi) << 32);
-        cells[t].push(CellBook { cell: cell - scene.first_cells[t], quanta, hits });
+        let wear = wear.get(k).map_or([0, 0], |w| [pair(w[0], w[1]), pair(w[2], w[3])]);
+        cells[t].push(CellBook { cell: cell - scene.first_cells[t], quanta: pair(lo, hi), hits, wear });
     }
     // In cell order, whatever order the invocations listed them in.
     cells.iter_mut().for_each(|c| c.sort_unstable_by_key(|b| b.cell));

@@ -20,6 +20,7 @@ struct Params {
     seed: vec4<u32>,       // seed low, seed high, impacts per step, invocations per dispatch row
     sizes: vec4<u32>,      // targets, obstacle shapes, released particles, nozzle quanta
     tables: vec4<u32>,     // word offsets of: targets, shapes, released table; cells in all grids
+    wear: vec4<u32>,       // whether any target erodes, then unused
 }
 
 // 36 bytes a slot: position (m), velocity (m/s), birth step, id, impacts (low 12 bits) and
@@ -46,6 +47,10 @@ struct Particle {
 @group(0) @binding(6) var<storage, read_write> listed: array<u32>;
 // As the last `census` found them: [0] the cells listed, then each target's band (f32 bits).
 @group(0) @binding(7) var<storage, read_write> plan: array<u32>;
+// Where a target erodes, per cell of every grid: the coating's and the substrate's wear in
+// WEAR_QUANTUMs (2⁻⁹⁰ m³), each as (low, high); from word 4 × (cells + 1), after `gather`, the
+// same for each listed cell. A spare word where nothing erodes.
+@group(0) @binding(8) var<storage, read_write> wear: array<atomic<u32>>;
 
 const ALIVE: u32 = 1u;
 const HIT_SUBSTRATE: u32 = 2u;
@@ -62,8 +67,10 @@ const MODEL_WORDS: u32 = 64u;
 // Target words: the face (centre, normal, up, right, half width and height), cols, rows, its
 // first cell over all grids, the band at the call's start, substrate or not, the footprint's
 // offsets and count, a quantum's thickness on one cell, and its openings' polygons, count and
-// hole bits (see `pack.rs`).
+// hole bits, and its erosion's words (see `pack.rs`).
 const TARGET_WORDS: u32 = 32u;
+// Words of one erosion law.
+const LAW_WORDS: u32 = 8u;
 // Shape words.
 const SHAPE_WORDS: u32 = 16u;
 
@@ -159,6 +166,15 @@ fn deposit(cell: u32, q: vec2<u32>) {
         atomicAdd(&cells[4u * cell + 1u], q.y + carry);
     }
     mark(cell);
+}
+
+// Adds the 64-bit `q` to the wear counter pair at `at`.
+fn add_wear(at: u32, q: vec2<u32>) {
+    let old = atomicAdd(&wear[at], q.x);
+    let carry = select(0u, 1u, old + q.x < old);
+    if (q.y + carry != 0u) {
+        atomicAdd(&wear[at + 1u], q.y + carry);
+    }
 }
 
 // `q` split over `n` cells (n < 2¹⁶): share k takes q / n, and share 0 the remainder too.
@@ -846,12 +862,64 @@ fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
         }
     }
     book(h, front, stuck, loose, bounced, released, q);
+    if (front) {
+        erode(h, v_in, speed, q);
+    }
     if (stuck) {
         set_flags(flags() & ~ALIVE);
         return vec4<f32>(0.0);
     }
     set_flags(flags() | BOUNCED);
     return vec4<f32>(v_out, 1.0);
+}
+
+// ---- Erosion ----
+
+// The volume (m³) the erosion law at `at` removes in one impact of `mass` (kg) at `speed`
+// (m/s), `s` the sine of its angle γ from the surface: Finnie's k m v² f(γ), or Oka's
+// g(γ) E90 (v / v_ref)^k₂ m with g(γ) = sin^n₁ γ (1 + Hv (1 − sin γ))^n₂ (`process/erosion`).
+// The angle is never formed: drivers may take `asin` or `tan` to a few 10⁻⁴ (Vulkan allows
+// `atan` 4096 ulp), which would move f(γ) by as much; its sine and cosine are exact enough.
+fn removed(at: u32, mass: f32, speed: f32, s: f32) -> f32 {
+    if (scene[at] == 0u) {
+        // tan γ ≤ 1/3: sin 2γ − 3 sin² γ; beyond, cos² γ / 3.
+        let c = sqrt(max(1.0 - s * s, 0.0));
+        let shape = select(c * c / 3.0, 2.0 * s * c - 3.0 * s * s, 3.0 * s <= c);
+        return f(at + 1u) * mass * speed * speed * max(shape, 0.0);
+    }
+    if (s <= 0.0 || speed <= 0.0) {
+        return 0.0;
+    }
+    let g = pow(s, f(at + 2u)) * pow(1.0 + f(at + 4u) * (1.0 - s), f(at + 3u));
+    return g * f(at + 1u) * pow(speed / f(at + 6u), f(at + 5u)) * mass;
+}
+
+// `volume` (m³) in wear quanta (`per_m3` of them a cubic metre), rounded to the nearest, as
+// (low, high); none for a volume that is not positive.
+fn wear_quanta(volume: f32, per_m3: f32) -> vec2<u32> {
+    let q = round(volume * per_m3);
+    if (!(q > 0.0)) {
+        return vec2<u32>(0u);
+    }
+    let hi = floor(q / 4294967296.0);
+    return vec2<u32>(u32(q - hi * 4294967296.0), u32(min(hi, 4294967295.0)));
+}
+
+// Books the coating and substrate that the impact `h` on a target's front with velocity `v_in`
+// (of `speed`) by `q` quanta of material would wear away, in the struck cell, where the target
+// erodes.
+fn erode(h: Hit, v_in: vec3<f32>, speed: f32, q: vec2<u32>) {
+    let at = params.tables.x + TARGET_WORDS * h.owner;
+    let e = scene[at + 25u];
+    if (e == 0u) {
+        return;
+    }
+    // sin γ, γ the impact angle from the surface.
+    let s = clamp(-dot(v_in, h.normal) / max(speed, 1e-30), 0.0, 1.0);
+    let mass = (f32(q.y) * 4294967296.0 + f32(q.x)) * f(e);
+    let cell = 4u * (scene[at + 16u] + h.cell);
+    add_wear(cell, wear_quanta(removed(e + 2u, mass, speed, s), f(e + 1u)));
+    add_wear(cell + 2u, wear_quanta(removed(e + 2u + LAW_WORDS, mass, speed, s), f(e + 1u)));
 }
 
 fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: bool, q: vec2<u32>) {
@@ -1055,7 +1123,8 @@ fn census(@builtin(local_invocation_index) lid: u32) {
     }
 }
 
-// Copies each listed cell's deposit and impacts beside it and clears the cell for the next call.
+// Copies each listed cell's deposit and impacts beside it (and its wear, where a target erodes,
+// into the listed part of `wear`) and clears the cell for the next call.
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x + gid.y * params.seed.w;
@@ -1067,6 +1136,12 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     listed[4u * k + 2u] = atomicExchange(&cells[4u * c + 1u], 0u);
     listed[4u * k + 3u] = atomicExchange(&cells[4u * c + 2u], 0u);
     atomicStore(&cells[4u * c + 3u], 0u);
+    if (params.wear.x != 0u) {
+        let copy = 4u * (params.tables.w + 1u + k);
+        for (var j = 0u; j < 4u; j++) {
+            atomicStore(&wear[copy + j], atomicExchange(&wear[4u * c + j], 0u));
+        }
+    }
 }
 
 // At the end of an epoch within a call: each listed cell's layer as the call found it plus what

@@ -46,7 +46,7 @@
 //! ## Scope
 //!
 //! [`check`] refuses, naming the feature: targets other than rectangles (with or without
-//! openings), erosion, mesh and shell obstacles, shapes and rebound laws defined outside the
+//! openings), mesh and shell obstacles, shapes, rebound laws and erosion laws defined outside the
 //! engine, the gun's air and an impact log. Calls whose impacts an observer gathers as events fly on the CPU.
 
 mod device;

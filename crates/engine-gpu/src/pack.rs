@@ -5,11 +5,12 @@
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use spraysim_engine::collision::{Face, Shape};
-use spraysim_engine::deposit::Surface;
+use spraysim_engine::config::ErosionConfig;
+use spraysim_engine::deposit::{Surface, WEAR_QUANTUM};
 use spraysim_engine::motion::Integrator;
 use spraysim_engine::particles::{Particle, flags};
 use spraysim_engine::pipeline::FlightJob;
-use spraysim_engine::process::{ImpactModel, ReboundForm};
+use spraysim_engine::process::{ErosionForm, ImpactModel, ReboundForm};
 use spraysim_engine::world::Role;
 
 /// Words of one impact model.
@@ -48,6 +49,8 @@ pub struct Params {
     pub sizes: [u32; 4],
     /// Word offsets of the targets, shapes and released table; cells of all grids.
     pub tables: [u32; 4],
+    /// Whether any target erodes (its wear is gathered per cell), then unused.
+    pub wear: [u32; 4],
 }
 
 /// One particle slot as the kernel keeps it: 36 bytes.
@@ -108,6 +111,8 @@ pub struct SceneWords {
     pub first_cells: Vec<u32>,
     /// Cells of all grids.
     pub cells: u32,
+    /// Whether any target erodes.
+    pub erodes: bool,
 }
 
 fn put_f(w: &mut [u32], at: usize, x: f64) {
@@ -210,6 +215,34 @@ fn shape_words(s: &Shape, owner: usize) -> [u32; SHAPE_WORDS] {
     w
 }
 
+/// Words of one erosion law.
+pub const LAW_WORDS: usize = 8;
+
+/// A target's erosion, as target word 25 points to it: the mass of one quantum of material
+/// (`quantum_mass`, kg), 1 / [`WEAR_QUANTUM`] (m⁻³), then the coating's law and the
+/// substrate's, [`LAW_WORDS`] each: 0 and Finnie's k, or 1 and Oka's E90 at the grain's size
+/// (e90 (d / d_ref)^k₃, m³/kg), n₁, n₂, Hv, k₂ and v_ref (the scope check has refused others).
+fn erosion_words(e: &ErosionConfig, quantum_mass: f64) -> Vec<u32> {
+    let mut w = vec![0u32; 2 + 2 * LAW_WORDS];
+    put_f(&mut w, 0, quantum_mass);
+    put_f(&mut w, 1, 1.0 / WEAR_QUANTUM);
+    for (k, law) in [&e.coating_law, &e.substrate_law].into_iter().enumerate() {
+        let at = 2 + LAW_WORDS * k;
+        match law.form() {
+            ErosionForm::Finnie(f) => put_f(&mut w, at + 1, f.k),
+            ErosionForm::Oka(o) => {
+                w[at] = 1;
+                put_f(&mut w, at + 1, o.e90 * (o.grain_diameter / o.d_ref).powf(o.k3));
+                for (j, x) in [o.n1, o.n2, o.hv, o.k2, o.v_ref].into_iter().enumerate() {
+                    put_f(&mut w, at + 2 + j, x);
+                }
+            }
+            ErosionForm::Opaque => {}
+        }
+    }
+    w
+}
+
 /// Lays out the openings of the rectangle `r`, whose words start at `at`: word 22 the offset of
 /// its polygons (each its corner count, then its corners' in-face coordinates, m, as f32 pairs),
 /// 23 their count, 24 the offset of its cells' hole bits (bit `c % 32` of word `c / 32`: cell
@@ -272,6 +305,10 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         // The thickness one quantum adds to one of its cells, m.
         put_f(&mut words, at + 21, config.volume_quantum() / field.cell_area());
         openings_words(&mut words, at, r);
+        if let Some(e) = &config.targets[t].erosion {
+            words[at + 25] = words.len() as u32;
+            words.extend(erosion_words(e, config.volume_quantum() * config.material.density));
+        }
         cells += field.thickness().len() as u32;
     }
     let shapes_at = words.len();
@@ -299,6 +336,7 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         released,
         first_cells,
         cells,
+        erodes: config.targets.iter().any(|t| t.erosion.is_some()),
     }
 }
 
@@ -369,5 +407,6 @@ pub fn params(
         seed: [c.seed as u32, (c.seed >> 32) as u32, c.max_impacts_per_step, WORKGROUP * ROW_GROUPS],
         sizes: [job.targets.len() as u32, scene.shapes, scene.released, nozzle_quanta],
         tables: [scene.tables[0], scene.tables[1], scene.tables[2], scene.cells],
+        wear: [u32::from(scene.erodes), 0, 0, 0],
     }
 }

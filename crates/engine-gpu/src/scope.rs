@@ -4,7 +4,7 @@
 use spraysim_engine::SimulationConfig;
 use spraysim_engine::collision::Shape;
 use spraysim_engine::deposit::Surface;
-use spraysim_engine::process::{ImpactModel, ReboundForm};
+use spraysim_engine::process::{ErosionForm, ImpactModel, ReboundForm};
 
 /// Most coefficients of a polynomial rebound law (and of the cushion law's ricochet curve).
 pub const MAX_COEFFICIENTS: usize = 8;
@@ -30,8 +30,8 @@ fn refuse(feature: impl Into<String>, key: impl Into<String>) -> Result<(), Unsu
 }
 
 /// Checks that the GPU backend runs everything `config` asks for: rectangle targets (with
-/// openings) without erosion; plane, face, disk, sphere, cylinder and box obstacles; the built-in rebound
-/// laws; any integrator; no gun's air and no impact log.
+/// openings, under Finnie's or Oka's erosion law); plane, face, disk, sphere, cylinder and box
+/// obstacles; the built-in rebound laws; any integrator; no gun's air and no impact log.
 pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
     if config.motion.air.is_some() {
         return refuse("the gun's air (droplets in a jet)", "air.model");
@@ -58,8 +58,15 @@ pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
             Surface::Cylinder(_) => return refuse("cylinder-shell targets", format!("{key}.shape")),
             Surface::Mesh(_) => return refuse("mesh targets", format!("{key}.mesh")),
         }
-        if t.erosion.is_some() {
-            return refuse("erosion", format!("{key}.erosion"));
+        if let Some(e) = &t.erosion {
+            for (law, part) in [(&e.coating_law, "coating"), (&e.substrate_law, "substrate")] {
+                if matches!(law.form(), ErosionForm::Opaque) {
+                    return refuse(
+                        format!("erosion laws defined outside the engine (the {part}'s)"),
+                        format!("{key}.erosion"),
+                    );
+                }
+            }
         }
         model(&t.impact, &key)?;
     }

@@ -1,6 +1,7 @@
 //! The flight kernel against closed forms, on random inputs with their boundary cases: forward
 //! Euler flights onto a wall (where they strike, and which miss its edges), through its openings
-//! and beside them, and the 64-bit arithmetic of deposits shared over a footprint.
+//! and beside them, the wear of each impact under the erosion laws, and the 64-bit arithmetic of
+//! deposits shared over a footprint.
 
 mod common;
 
@@ -494,4 +495,108 @@ fn flights_pass_through_openings_and_what_strikes_beside_them_deposits_on_solid_
     let expected = quanta.iter().filter(|&&q| q > 0).count();
     assert_eq!(listed.iter().filter(|c| c.quanta > 0).count(), expected, "the cells that take a share");
     assert_eq!(listed.iter().map(|c| u128::from(c.quanta)).sum::<u128>(), u128::from(struck * NOZZLE));
+}
+
+/// Where forward Euler from `x`, `v` first crosses the plane x = 0 within `steps` steps of `dt`,
+/// in f64, and the velocity there (the step's velocity moved on by g over the step's fraction
+/// flown, as the kernels interpolate it).
+fn euler_impact(mut x: DVec3, mut v: DVec3, dt: f64, g: DVec3, steps: u32) -> Option<(DVec3, DVec3)> {
+    for _ in 0..steps {
+        let x1 = x + v * dt;
+        if x.x < 0.0 && x1.x >= 0.0 {
+            let t = -x.x / (x1.x - x.x);
+            return Some((x.lerp(x1, t), v + g * dt * t));
+        }
+        x = x1;
+        v += g * dt;
+    }
+    None
+}
+
+#[test]
+fn each_impact_wears_coating_and_substrate_as_the_erosion_laws_say() {
+    use spraysim_engine::config::ErosionConfig;
+    use spraysim_engine::deposit::wear_quanta;
+    use spraysim_engine::process::ErosionLaw;
+    use spraysim_engine::process::erosion::{Finnie, Oka};
+    let Some(gpu) = common::gpu() else { return };
+    // Grit at 30 to 150 m/s, from square on to 80° off the normal, onto a wall whose coat wears
+    // by Finnie's law and whose steel by Oka's; every impact sticks, so each strikes once.
+    let coat = Finnie { k: 2e-9 };
+    let steel = Oka::for_hardness(1.4, 6.2e-8, 104.0, 326e-6, 0.19, 500e-6);
+    let mut config = sticky_wall(0.0);
+    config.targets[0].erosion =
+        Some(ErosionConfig { coating: 1e-4, coating_law: Arc::new(coat), substrate_law: Arc::new(steel) });
+    let sim = Simulation::new(config.clone()).expect("valid");
+    let Surface::Rectangle(wall) = &sim.targets()[0].surface else { panic!("the wall is a rectangle") };
+    let field = &wall.field;
+    let (dt, g) = (config.dt, config.motion.gravity);
+    let mass = NOZZLE as f64 * config.volume_quantum() * config.material.density;
+    let mut draws = Draws(0xbb67_ae85_84ca_a73b);
+    let particles: Vec<Particle> = (0..4000u32)
+        .map(|id| {
+            let start =
+                DVec3::new(-0.1 - 0.4 * draws.next(), 1.6 * draws.next() - 0.8, 0.2 + 1.6 * draws.next());
+            let (off, turn) = (80f64.to_radians() * draws.next(), std::f64::consts::TAU * draws.next());
+            let dir = DVec3::new(off.cos(), off.sin() * turn.cos(), off.sin() * turn.sin());
+            Particle::new(start, dir * (30.0 + 120.0 * draws.next()), 0, id, flags::ALIVE)
+        })
+        .filter(|p| {
+            // Clear of the wall's edges and the cells' borders, where f32 may book another cell.
+            euler_impact(p.anchor, p.anchor_velocity(), dt, g, 400).is_none_or(|(x, _)| {
+                let (u, v) = (-x.y, x.z - 1.0);
+                let (cw, ch) = field.cell_size();
+                let border = |x: f64, size: f64| {
+                    let f = (x / size).rem_euclid(1.0);
+                    f.min(1.0 - f) * size
+                };
+                (1.0 - u.abs())
+                    .abs()
+                    .min((1.0 - v.abs()).abs())
+                    .min(border(u + 1.0, cw))
+                    .min(border(v + 1.0, ch))
+                    > F32_REACH
+            })
+        })
+        .collect();
+    let report = one_epoch(&gpu, &config, &sim, &particles);
+    // What the engine books per cell: each impact's volumes, rounded to f32, in wear quanta; and
+    // the most each law could have removed at that speed, at its worst angle (the scale of f32's
+    // error, which is largest relative to a volume near an angle where a law vanishes: Finnie's
+    // at square incidence).
+    let cells = field.thickness().len();
+    let (mut expected, mut scale) = (vec![[0u64; 2]; cells], vec![[0.0f64; 2]; cells]);
+    let mut struck = 0;
+    for p in &particles {
+        let Some((point, v_in)) = euler_impact(p.anchor, p.anchor_velocity(), dt, g, 400) else { continue };
+        if point.y.abs() > 1.0 || (point.z - 1.0).abs() > 1.0 {
+            continue;
+        }
+        struck += 1;
+        let speed = v_in.length();
+        let gamma = (v_in.x / speed).clamp(0.0, 1.0).asin();
+        let cell = wall.cell_at(0, point) as usize;
+        for (k, law) in [&coat as &dyn ErosionLaw, &steel].into_iter().enumerate() {
+            expected[cell][k] += wear_quanta(f64::from(law.removed_volume(mass, speed, gamma) as f32));
+            let most = (1..=90).map(|d| law.removed_volume(mass, speed, f64::from(d).to_radians()));
+            scale[cell][k] += wear_quanta(most.fold(0.0, f64::max)) as f64;
+        }
+    }
+    assert!(struck > 3000, "{struck} struck");
+    assert_eq!(report.targets[0].hits, struck as u64);
+    let listed = &report.cells[0];
+    assert_eq!(listed.len(), expected.iter().filter(|w| w[0] > 0).count(), "the cells worn");
+    // f32's angles, sines and powers against f64's: within 10⁻⁴ of what the impacts could remove
+    // at most (a wrong angle or exponent is off by far more).
+    for c in listed {
+        for k in 0..2 {
+            let (want, got) = (expected[c.cell as usize][k] as f64, c.wear[k] as f64);
+            let tolerance = 1e-4 * scale[c.cell as usize][k];
+            assert!(
+                want > 0.0 && (got - want).abs() <= tolerance,
+                "cell {}: wear {k} {got:e} against the law's {want:e} (tolerance {tolerance:.1e})",
+                c.cell
+            );
+        }
+    }
 }

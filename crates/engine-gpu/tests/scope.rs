@@ -12,22 +12,21 @@ fn refusal(sc: &Scenario) -> String {
 }
 
 #[test]
-fn the_default_scene_the_processes_without_erosion_and_walls_with_openings_lie_in_scope() {
+fn the_default_scene_the_processes_erosion_and_walls_with_openings_lie_in_scope() {
     assert_eq!(check(&Scenario::default_scene().config()), Ok(()));
-    let painting = Scenario::default_scene().with("process.preset", "painting").expect("valid");
-    assert_eq!(check(&painting.config()), Ok(()));
+    for preset in ["painting", "blasting"] {
+        let other = Scenario::default_scene().with("process.preset", preset).expect("valid");
+        assert_eq!(check(&other.config()), Ok(()), "{preset}");
+    }
+    let oka = Scenario::default_scene().with("process.erosion.model", "oka").expect("valid");
+    assert_eq!(check(&oka.config()), Ok(()));
     let window = wall().with("[[target.opening]]\ncenter = [0.0, 0.0]\nsize = [0.4, 0.4]");
     assert_eq!(check(&scenario(&format!("{NOZZLE_AT_WALL}{window}"), "a window").config()), Ok(()));
 }
 
 #[test]
 fn features_outside_the_scope_are_refused_by_name_and_key() {
-    let cases: [(Scenario, &str, &str); 4] = [
-        (
-            Scenario::default_scene().with("process.erosion.model", "finnie").expect("valid"),
-            "erosion",
-            ".erosion",
-        ),
+    let cases: [(Scenario, &str, &str); 3] = [
         (
             Scenario::default_scene().with("output.impact_log", 0.5).expect("valid"),
             "impact log",
@@ -57,4 +56,27 @@ fn features_outside_the_scope_are_refused_by_name_and_key() {
         assert!(message.contains(feature) && message.contains(key), "{message}");
         assert!(message.contains("CPU backend"), "{message}");
     }
+}
+
+/// An erosion law the engine knows only by its volumes.
+#[derive(Debug)]
+struct Sandpaper;
+
+impl spraysim_engine::process::ErosionLaw for Sandpaper {
+    fn removed_volume(&self, mass: f64, _speed: f64, _gamma: f64) -> f64 {
+        1e-6 * mass
+    }
+}
+
+#[test]
+fn an_erosion_law_defined_outside_the_engine_is_refused_by_name() {
+    let mut config = Scenario::default_scene().with("process.preset", "blasting").expect("valid").config();
+    let erosion = config.targets[0].erosion.as_mut().expect("blasting wears the wall");
+    erosion.substrate_law = std::sync::Arc::new(Sandpaper);
+    let message = check(&config).map(|()| String::new()).unwrap_or_else(|e| e.to_string());
+    assert!(
+        message.contains("erosion laws defined outside the engine (the substrate's)")
+            && message.contains("target[0] `wall`.erosion"),
+        "{message}"
+    );
 }

@@ -153,3 +153,22 @@ fn calls_of_several_epochs_end_where_a_layer_stage_falls_due_and_fly_epoch_by_ep
     }
     assert_eq!(single.calls.load(Ordering::Relaxed), single.spanned.load(Ordering::Relaxed));
 }
+
+#[test]
+fn a_run_whose_target_erodes_hands_a_stage_one_epoch_a_call() {
+    use spraysim_engine::config::ErosionConfig;
+    use spraysim_engine::process::erosion::Finnie;
+    // Wear settles at each epoch's end, the coating first: a call's wear summed over several
+    // epochs would wear the coating as one impact.
+    let mut config = SimulationConfig::example_wall(0.05);
+    let law = Arc::new(Finnie { k: 1e-9 });
+    config.targets[0].erosion =
+        Some(ErosionConfig { coating: 1e-4, coating_law: law.clone(), substrate_law: law });
+    let own = run_config(config.clone(), None);
+    let declining = Arc::new(Declining::new(1000, usize::MAX));
+    let declined = run_config(config, Some(declining.clone()));
+    let epochs = own.total_steps() / own.epoch_steps();
+    assert_eq!(declining.calls.load(Ordering::Relaxed) as u64, epochs, "a call per epoch");
+    assert_eq!(declining.spanned.load(Ordering::Relaxed) as u64, epochs);
+    same(&declined, &own);
+}

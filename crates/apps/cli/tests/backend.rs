@@ -50,10 +50,10 @@ fn a_build_with_the_gpu_runs_on_it_and_refuses_what_it_does_not_run() {
     }
     assert!(o.status.success(), "{err}");
     assert!(stdout(&o).contains("particles flown on: GPU") && wrote(&tmp.path().join("gpu")));
-    let erosion = format!("{}\n[process.erosion]\nmodel = \"finnie\"\n", wall_scene(0.02, 16));
-    std::fs::write(tmp.path().join("e.toml"), erosion).expect("write");
-    let o = spraysim(&["run", "e.toml", "-o", "eroded", "--backend", "gpu"], tmp.path());
+    let gun = format!("{}\n[process]\npreset = \"painting\"\ngun = \"hvlp\"\n", wall_scene(0.02, 16));
+    std::fs::write(tmp.path().join("a.toml"), gun).expect("write");
+    let o = spraysim(&["run", "a.toml", "-o", "air", "--backend", "gpu"], tmp.path());
     let err = stderr(&o);
-    assert!(!o.status.success() && err.contains("erosion") && err.contains("CPU backend"), "{err}");
-    assert!(!wrote(&tmp.path().join("eroded")), "a refused run wrote its outputs");
+    assert!(!o.status.success() && err.contains("the gun's air") && err.contains("CPU backend"), "{err}");
+    assert!(!wrote(&tmp.path().join("air")), "a refused run wrote its outputs");
 }

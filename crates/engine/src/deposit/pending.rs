@@ -114,6 +114,20 @@ impl Pending {
         }
     }
 
+    /// Adds wear of coating and substrate, [`WEAR_QUANTUM`]s, to `cell` (as a flight stage that
+    /// gathered it books it; ignored without wear counters).
+    #[inline]
+    pub fn wear(&self, cell: u32, wear: [u64; 2], touched: &mut Vec<u32>) {
+        if let Some(counters) = self.wear.get(cell as usize)
+            && wear != [0, 0]
+        {
+            for (c, w) in counters.iter().zip(wear) {
+                c.fetch_add(w, Ordering::Relaxed);
+            }
+            self.mark(cell, touched);
+        }
+    }
+
     /// Takes what `cell` gathered, leaving its counters at zero.
     pub fn take(&self, cell: u32) -> Gathered {
         let c = cell as usize;

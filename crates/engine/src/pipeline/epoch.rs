@@ -96,7 +96,7 @@ pub(super) fn run(
 /// of the epoch under way (at most `steps` on), or, for a stage that takes several epochs and
 /// from an epoch's start, further whole epochs (a call of several ends at an epoch's end) while
 /// none ends with a layer stage due or the run's end, `steps` last, and the stage's epochs and
-/// particles per call allow.
+/// particles per call allow; a run whose targets erode takes one epoch a call.
 fn schedule(
     config: &SimulationConfig,
     plan: &Plan,
@@ -111,7 +111,11 @@ fn schedule(
     let Some(stage) = stage.filter(|_| state.step == state.settled) else {
         return (from, to, births, emissions);
     };
-    let (max_epochs, max_particles) = (stage.epochs_per_call(), stage.particles_per_call());
+    // Wear settles at every epoch's end, the coating first (a stage books a call's wear summed
+    // over its epochs, which would wear the coating as one impact): calls of one epoch.
+    let erodes = config.targets.iter().any(|t| t.erosion.is_some());
+    let max_epochs = if erodes { 1 } else { stage.epochs_per_call() };
+    let max_particles = stage.particles_per_call();
     // The particles a call holds: at most the swarm's slots and the births so far, and an epoch
     // adds at most `rate × its length` births and one (the carried fraction).
     let per_epoch = (config.emitter.spawn_rate * plan.epoch as f64 * config.dt).floor() as usize + 1;

@@ -6,7 +6,9 @@
 //! A stage may take several layer epochs in one call ([`FlightStage::epochs_per_call`]): then it
 //! adds each epoch's deposits to its own copy of the layers at that epoch's end, as the engine
 //! would, and the engine hands it the epochs up to the next one at whose end a layer stage falls
-//! due (or the run ends), so that nothing on the CPU must see the layers in between.
+//! due (or the run ends), so that nothing on the CPU must see the layers in between. A run whose
+//! targets erode settles their wear at every epoch's end (the coating first), so its calls take
+//! one epoch each.
 //!
 //! The rest is the engine's either way: the schedule of the births, the booking, the settling of
 //! the layers and the layer stages at their intervals. A call whose impacts must be gathered as
@@ -122,6 +124,10 @@ pub struct CellBook {
     pub quanta: u64,
     /// Impacts on it, stuck or rebounded.
     pub hits: u32,
+    /// Under its target's erosion law, the coating and substrate its impacts would wear away,
+    /// [`WEAR_QUANTUM`](crate::deposit::WEAR_QUANTUM)s (each impact's volume rounded to the
+    /// nearest first, as [`wear_quanta`](crate::deposit::wear_quanta) does); zero elsewhere.
+    pub wear: [u64; 2],
 }
 
 /// What a call flown by a stage hands to booking: the books, the newborns still in flight (in
@@ -175,6 +181,7 @@ pub(super) fn fly(
         for c in cells {
             target.pending.deposit(c.cell, c.quanta, touched);
             target.pending.impacts(c.cell, c.hits, touched);
+            target.pending.wear(c.cell, c.wear, touched);
         }
     }
     let mut flown = report.particles.into_iter();

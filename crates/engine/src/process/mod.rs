@@ -16,7 +16,7 @@ pub mod impact;
 pub mod layer;
 pub mod rebound;
 
-pub use erosion::ErosionLaw;
+pub use erosion::{ErosionForm, ErosionLaw};
 pub use impact::{ImpactModel, ImpactSite, Outcome};
 pub use layer::{LayerContext, LayerStage};
 pub use rebound::{ReboundForm, ReboundLaw};

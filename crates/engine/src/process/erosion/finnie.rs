@@ -21,6 +21,10 @@ pub fn finnie_f(gamma: f64) -> f64 {
 }
 
 impl ErosionLaw for Finnie {
+    fn form(&self) -> super::ErosionForm<'_> {
+        super::ErosionForm::Finnie(self)
+    }
+
     fn removed_volume(&self, mass: f64, speed: f64, gamma: f64) -> f64 {
         self.k * mass * speed * speed * finnie_f(gamma).max(0.0)
     }

@@ -13,4 +13,22 @@ pub trait ErosionLaw: Send + Sync + std::fmt::Debug {
     /// Volume (m³) one impact of `mass` (kg) at `speed` (m/s) and `gamma` (rad, the impact
     /// angle from the surface) removes.
     fn removed_volume(&self, mass: f64, speed: f64, gamma: f64) -> f64;
+
+    /// Which built-in law this is, with its parameters, for a backend that evaluates the laws
+    /// itself (the GPU's kernels); [`ErosionForm::Opaque`] (the default) for a law known only
+    /// through [`ErosionLaw::removed_volume`], which such a backend refuses.
+    fn form(&self) -> ErosionForm<'_> {
+        ErosionForm::Opaque
+    }
+}
+
+/// A built-in erosion law as plain parameters (see [`ErosionLaw::form`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ErosionForm<'a> {
+    /// Finnie's model ([`Finnie`]).
+    Finnie(&'a Finnie),
+    /// Oka's model ([`Oka`]).
+    Oka(&'a Oka),
+    /// A law defined outside the engine.
+    Opaque,
 }

@@ -53,6 +53,10 @@ impl Oka {
 }
 
 impl ErosionLaw for Oka {
+    fn form(&self) -> super::ErosionForm<'_> {
+        super::ErosionForm::Oka(self)
+    }
+
     fn removed_volume(&self, mass: f64, speed: f64, gamma: f64) -> f64 {
         let e90 =
             self.e90 * (speed / self.v_ref).powf(self.k2) * (self.grain_diameter / self.d_ref).powf(self.k3);
