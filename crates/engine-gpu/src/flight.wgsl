@@ -64,11 +64,16 @@ const SURFACE_OFFSET: f32 = 2e-6;
 
 // Model words (per owner: the targets, then the obstacles).
 const MODEL_WORDS: u32 = 64u;
-// Target words: the face (centre, normal, up, right, half width and height), cols, rows, its
-// first cell over all grids, the band at the call's start, substrate or not, the footprint's
-// offsets and count, a quantum's thickness on one cell, and its openings' polygons, count and
-// hole bits, and its erosion's words (see `pack.rs`).
+// Target words: its surface (a rectangle's centre, normal, up, right; a shell's centre, axis,
+// e1, e2), the half width and height of its grid, cols, rows, its first cell over all grids, the
+// band at the call's start, substrate or not, the footprint's offsets and count, a quantum's
+// thickness on one cell, its openings' polygons, count and hole bits, its erosion's words, and
+// for a shell its radius, the side sprayed, its start angle and whether its grid wraps; its
+// kind (see `pack.rs`).
 const TARGET_WORDS: u32 = 32u;
+// Kinds of target (word 29).
+const RECTANGLE: u32 = 0u;
+const SHELL: u32 = 1u;
 // Words of one erosion law.
 const LAW_WORDS: u32 = 8u;
 // Shape words.
@@ -485,6 +490,18 @@ fn cell_at(at: u32, u: f32, v: f32) -> u32 {
     return row * cols + col;
 }
 
+// Column `c` of the target at `at`'s grid, wrapped round a shell's full turn; -1 off the grid.
+fn column(at: u32, c: i32) -> i32 {
+    let cols = i32(scene[at + 14u]);
+    if (c >= 0 && c < cols) {
+        return c;
+    }
+    if (scene[at + 31u] != 0u) {
+        return ((c % cols) + cols) % cols;
+    }
+    return -1;
+}
+
 // True if the in-face point uv (m from the centre) lies in one of the openings of the target at
 // `at`: the even–odd rule over each polygon, as the engine's `Opening::contains`.
 fn in_opening(at: u32, uv: vec2<f32>) -> bool {
@@ -558,6 +575,9 @@ fn solid(at: u32, cell: u32, uv: vec2<f32>) -> u32 {
 // crossed its plane there meets nothing more of the target.
 fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let at = params.tables.x + TARGET_WORDS * t;
+    if (scene[at + 29u] == SHELL) {
+        return shell_hit(t, p0, p1);
+    }
     let c = v3(at);
     let n = v3(at + 3u);
     let hw = f(at + 12u);
@@ -640,6 +660,204 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     return Hit(s, q, -n, t, NO_CELL);
 }
 
+// ---- Cylindrical shells ----
+// A shell's words: centre (0), axis (3), e1 (6, angle 0), e2 (9, e1 × axis), half the unrolled
+// width (12), half the length (13), then as a rectangle's, and its radius (26), the side sprayed
+// (28: +1 inside, −1 outside), its start angle (30) and whether its grid wraps (31).
+
+// atan2(y, x) to about 10⁻⁷ rad (Abramowitz & Stegun 4.4.49 on the octant-reduced argument):
+// drivers may take the built-in to 4096 ulp (10⁻³ rad near π), a cell on a 3 m lining.
+fn atan2_fine(y: f32, x: f32) -> f32 {
+    let ax = abs(x);
+    let ay = abs(y);
+    let big = max(ax, ay);
+    if (big == 0.0) {
+        return 0.0;
+    }
+    let a = min(ax, ay) / big;
+    let a2 = a * a;
+    var r = a * (0.9999993329 + a2 * (-0.3332985605 + a2 * (0.1994653599 + a2 * (-0.1390853351
+        + a2 * (0.0964200441 + a2 * (-0.0559098861 + a2 * (0.0218612288 + a2 * -0.0040540580)))))));
+    if (ay > ax) {
+        r = 1.5707963 - r;
+    }
+    if (x < 0.0) {
+        r = 3.1415927 - r;
+    }
+    return select(r, -r, y < 0.0);
+}
+
+// The shell's unrolled coordinates of `p` (as the engine's `ShellChart::local`): u (m along the
+// arc from the middle, the viewer's right from the side sprayed), v (m along the axis) and the
+// height above the surface on the side sprayed (m); w: whether the shell covers p's angle and
+// axial position.
+fn shell_local(at: u32, p: vec3<f32>) -> vec4<f32> {
+    let d = p - v3(at);
+    let r = length(d - v3(at + 3u) * dot(d, v3(at + 3u)));
+    let z = dot(d, v3(at + 3u));
+    let radius = f(at + 26u);
+    let sense = f(at + 28u);
+    let span = 2.0 * f(at + 12u) / radius;
+    // The angle from the start, in [0, 2π).
+    var rel = atan2_fine(dot(d, v3(at + 9u)), dot(d, v3(at + 6u))) - f(at + 30u);
+    rel -= 6.2831853 * floor(rel / 6.2831853);
+    var mid = rel - 0.5 * span;
+    if (mid > 3.1415927) {
+        mid -= 6.2831853;
+    }
+    let covered = rel <= span && abs(z) <= f(at + 13u);
+    return vec4<f32>(sense * radius * mid, z, sense * (radius - r), select(0.0, 1.0, covered));
+}
+
+// The unit normal of the shell at `p` towards the side sprayed.
+fn shell_normal(at: u32, p: vec3<f32>) -> vec3<f32> {
+    let d = p - v3(at);
+    let radial = d - v3(at + 3u) * dot(d, v3(at + 3u));
+    return -f(at + 28u) * radial / max(length(radial), 1e-30);
+}
+
+// The first fraction of the segment at which it crosses the height `level` above the shell
+// going down (`down`: towards the surface from the side sprayed) or up; NONE if it does not.
+fn shell_level(at: u32, p0: vec3<f32>, p1: vec3<f32>, level: f32, down: bool) -> f32 {
+    let axis = v3(at + 3u);
+    let m = p0 - v3(at);
+    let d = p1 - p0;
+    let mp = m - axis * dot(m, axis);
+    let dp = d - axis * dot(d, axis);
+    let rho = f(at + 26u) - f(at + 28u) * level;
+    let a = dot(dp, dp);
+    let b = dot(mp, dp);
+    let c = dot(mp, mp) - rho * rho;
+    let disc = b * b - a * c;
+    if (a <= 0.0 || disc <= 0.0 || rho <= 0.0) {
+        return NONE;
+    }
+    // Stable roots of a t² + 2 b t + c.
+    let q = -(b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
+    let r1 = q / a;
+    let r2 = c / q;
+    // Going down on the inside is moving away from the axis; on the outside, towards it.
+    let away = f(at + 28u) > 0.0;
+    for (var k = 0u; k < 2u; k++) {
+        let t = select(max(r1, r2), min(r1, r2), k == 0u);
+        let outward = dot(mp + dp * t, dp) > 0.0;
+        if (t >= 0.0 && t <= 1.0 && (outward == away) == down) {
+            return t;
+        }
+    }
+    return NONE;
+}
+
+// The first hit of a segment that starts on the side sprayed of shell t (at `at`): its layer,
+// read as on a rectangle (at the thickness of the cell under the crossing, found again at most
+// three times), or the bare surface; an opening lets a bare crossing pass.
+fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    let first = scene[at + 16u];
+    let top = band(t);
+    let l0 = shell_local(at, p0);
+    let h0 = l0.z;
+    var own = 0.0;
+    if (h0 <= top && l0.w > 0.0) {
+        own = thickness[first + cell_at(at, l0.x, l0.y)];
+    }
+    var s = NONE;
+    var bare = true;
+    if (h0 <= own) {
+        // Inside the layer: within one step it meets only the bare surface.
+        s = shell_level(at, p0, p1, 0.0, true);
+    } else {
+        // Into the band the layer may fill: where it crosses the bare surface (or its end, if
+        // it stops short of it), then the layer's height in the cell under that.
+        var enters = 0.0;
+        if (h0 > top) {
+            enters = shell_level(at, p0, p1, top, true);
+        }
+        if (enters > 1.0) {
+            return no_hit();
+        }
+        s = min(shell_level(at, p0, p1, 0.0, true), 1.0);
+        var layer = -1.0;
+        var side = false;
+        for (var k = 0u; k < 3u; k++) {
+            let l = shell_local(at, mix(p0, p1, s));
+            var next = 0.0;
+            if (l.w > 0.0) {
+                next = thickness[first + cell_at(at, l.x, l.y)];
+            }
+            if (h0 <= next) {
+                side = true;
+                break;
+            }
+            if (next == layer) {
+                break;
+            }
+            layer = next;
+            s = shell_level(at, p0, p1, layer, true);
+            if (s > 1.0) {
+                break;
+            }
+        }
+        bare = !side && layer <= 0.0;
+        if (side) {
+            let q = mix(p0, p1, s);
+            let n = shell_normal(at, q);
+            let d = p1 - p0;
+            let cells = vec2<f32>(2.0 * f(at + 12u) / f32(scene[at + 14u]), 2.0 * f(at + 13u) / f32(scene[at + 15u]));
+            let along = length(d - n * dot(d, n));
+            s = max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
+        }
+    }
+    if (s > 1.0) {
+        return no_hit();
+    }
+    let q = mix(p0, p1, s);
+    let l = shell_local(at, q);
+    let uv = l.xy;
+    if (l.w == 0.0 || (bare && scene[at + 23u] != 0u && in_opening(at, uv))) {
+        return no_hit();
+    }
+    return Hit(s, q, shell_normal(at, q), t, solid(at, cell_at(at, uv.x, uv.y), uv));
+}
+
+// The first hit of the segment on shell t: from the side sprayed, as `shell_front`; from behind,
+// its bare back, or, where the path passes the shell's edge or an opening there, what it meets
+// on the side sprayed beyond; from the side sprayed of a shell seen from outside, past its edge
+// or through an opening, the back of its far side.
+fn shell_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+    let at = params.tables.x + TARGET_WORDS * t;
+    let h0 = shell_local(at, p0).z;
+    var passed = 0.0;
+    if (h0 > 0.0) {
+        let front = shell_front(t, at, p0, p1);
+        if (front.t <= 1.0) {
+            return front;
+        }
+        // What passed now lies behind: on a shell seen from outside, inside the cylinder.
+        passed = shell_level(at, p0, p1, 0.0, true);
+        if (passed > 1.0) {
+            return no_hit();
+        }
+    }
+    let b = shell_level(at, p0, p1, 0.0, false);
+    if (b > 1.0 || b < passed) {
+        return no_hit();
+    }
+    let q = mix(p0, p1, b);
+    let l = shell_local(at, q);
+    if (l.w > 0.0 && !(scene[at + 23u] != 0u && in_opening(at, l.xy))) {
+        return Hit(b, q, -shell_normal(at, q), t, NO_CELL);
+    }
+    if (h0 > 0.0) {
+        return no_hit();
+    }
+    // Past the edge from behind, onto the side sprayed.
+    let rest = shell_front(t, at, q, p1);
+    if (rest.t > 1.0) {
+        return no_hit();
+    }
+    return Hit(b + (1.0 - b) * rest.t, rest.point, rest.normal, t, rest.cell);
+}
+
 fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     var best = no_hit();
     for (var t = 0u; t < params.sizes.x; t++) {
@@ -659,8 +877,9 @@ fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
 
 // ---- Impact laws ----
 
-// The mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s, over
-// at most 25 × 25 of them (a wider disc is sampled with a stride), m.
+// The mean thickness over the cells whose centres lie within `radius` (m) of `cell`'s (round a
+// shell's full turn, openings left out), over at most 25 × 25 of them (a wider disc is sampled
+// with a stride), m.
 fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
     let at = params.tables.x + TARGET_WORDS * t;
     let first = scene[at + 16u];
@@ -684,10 +903,10 @@ fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
             continue;
         }
         for (var i = -rx; i <= rx; i += stride) {
-            let k = col + i;
+            let k = column(at, col + i);
             let x = f32(i) * dx;
             let y = f32(j) * dy;
-            if (k < 0 || k >= cols || x * x + y * y > radius * radius || is_hole(at, u32(r * cols + k))) {
+            if (k < 0 || x * x + y * y > radius * radius || is_hole(at, u32(r * cols + k))) {
                 continue;
             }
             sum += thickness[first + u32(r * cols + k)];
@@ -833,7 +1052,11 @@ fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
         cos_theta = clamp(-dot(v_in, h.normal) / speed, 0.0, 1.0);
         if (front) {
             // On a layer, θ is taken on the bare surface (as the field's curves are).
-            let bare = v3(params.tables.x + TARGET_WORDS * h.owner + 3u);
+            let at = params.tables.x + TARGET_WORDS * h.owner;
+            var bare = v3(at + 3u);
+            if (scene[at + 29u] == SHELL) {
+                bare = shell_normal(at, h.point);
+            }
             cos_theta = min(abs(dot(v_in, bare)) / speed, 1.0);
         }
     }
@@ -970,8 +1193,8 @@ fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: 
     }
 }
 
-// The deposit shared evenly over the footprint's cells inside the grid and not cut away, the
-// struck cell (always solid) first.
+// The deposit shared evenly over the footprint's cells inside the grid (round a shell's full
+// turn) and not cut away, the struck cell (always solid) first.
 fn splat(at: u32, first: u32, cell: u32, q: vec2<u32>) {
     let cols = i32(scene[at + 14u]);
     let rows = i32(scene[at + 15u]);
@@ -981,15 +1204,15 @@ fn splat(at: u32, first: u32, cell: u32, q: vec2<u32>) {
     let col = i32(cell) % cols;
     var n = 0u;
     for (var k = 0u; k < count; k++) {
-        let c = col + bitcast<i32>(scene[offsets + 2u * k]);
+        let c = column(at, col + bitcast<i32>(scene[offsets + 2u * k]));
         let r = row + bitcast<i32>(scene[offsets + 2u * k + 1u]);
-        n += select(0u, 1u, c >= 0 && c < cols && r >= 0 && r < rows && !is_hole(at, u32(r * cols + c)));
+        n += select(0u, 1u, c >= 0 && r >= 0 && r < rows && !is_hole(at, u32(r * cols + c)));
     }
     var j = 0u;
     for (var k = 0u; k < count; k++) {
-        let c = col + bitcast<i32>(scene[offsets + 2u * k]);
+        let c = column(at, col + bitcast<i32>(scene[offsets + 2u * k]));
         let r = row + bitcast<i32>(scene[offsets + 2u * k + 1u]);
-        if (c >= 0 && c < cols && r >= 0 && r < rows && !is_hole(at, u32(r * cols + c))) {
+        if (c >= 0 && r >= 0 && r < rows && !is_hole(at, u32(r * cols + c))) {
             deposit(first + u32(r * cols + c), share(q, n, j));
             j++;
         }

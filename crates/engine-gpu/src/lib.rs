@@ -45,9 +45,9 @@
 //!
 //! ## Scope
 //!
-//! [`check`] refuses, naming the feature: targets other than rectangles (with or without
-//! openings), mesh and shell obstacles, shapes, rebound laws and erosion laws defined outside the
-//! engine, the gun's air and an impact log. Calls whose impacts an observer gathers as events fly on the CPU.
+//! [`check`] refuses, naming the feature: mesh targets (rectangles and cylindrical shells, with
+//! openings, run), mesh and shell obstacles, shapes, rebound laws and erosion laws defined outside
+//! the engine, the gun's air and an impact log. Calls whose impacts an observer gathers as events fly on the CPU.
 
 mod device;
 mod flight;

@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use spraysim_engine::collision::{Face, Shape};
 use spraysim_engine::config::ErosionConfig;
-use spraysim_engine::deposit::{Surface, WEAR_QUANTUM};
+use spraysim_engine::deposit::{Chart, CylinderSurface, DepositSurface, GridSurface, Surface, WEAR_QUANTUM};
 use spraysim_engine::motion::Integrator;
 use spraysim_engine::particles::{Particle, flags};
 use spraysim_engine::pipeline::FlightJob;
@@ -17,6 +17,8 @@ use spraysim_engine::world::Role;
 pub const MODEL_WORDS: usize = 64;
 /// Words of one target.
 pub const TARGET_WORDS: usize = 32;
+/// A target's kind (word 29) when it is a cylindrical shell (0: a rectangle).
+const SHELL: u32 = 1;
 /// Words of one obstacle shape.
 pub const SHAPE_WORDS: usize = 16;
 /// Counter words before the per-target slots: particle-steps, the cells listed, a spare word,
@@ -171,6 +173,26 @@ fn face_words(w: &mut [u32], at: usize, f: &Face) {
     put_f(w, at + 13, f.half_height);
 }
 
+/// Lays out the shell `c`'s geometry at `at` (see `flight.wgsl`): centre, axis, e1 (angle 0),
+/// e2, half its unrolled width (its grid's) and length, its radius (word 26), the side sprayed
+/// (28: +1 inside, −1 outside), its kind (29), its start angle (30, rad) and whether its grid
+/// wraps round a full turn (31).
+fn shell_words(w: &mut [u32], at: usize, c: &CylinderSurface) {
+    let shell = &c.chart.shell;
+    put_v(w, at, shell.center);
+    put_v(w, at + 3, shell.axis);
+    put_v(w, at + 6, shell.e1);
+    put_v(w, at + 9, shell.e2);
+    let (width, length) = c.chart.size();
+    put_f(w, at + 12, 0.5 * width);
+    put_f(w, at + 13, 0.5 * length);
+    put_f(w, at + 26, shell.radius);
+    put_f(w, at + 28, if c.chart.inside { 1.0 } else { -1.0 });
+    w[at + 29] = SHELL;
+    put_f(w, at + 30, shell.angles[0]);
+    w[at + 31] = u32::from(c.chart.wraps());
+}
+
 fn shape_words(s: &Shape, owner: usize) -> [u32; SHAPE_WORDS] {
     let mut w = [0u32; SHAPE_WORDS];
     w[1] = owner as u32;
@@ -243,11 +265,11 @@ fn erosion_words(e: &ErosionConfig, quantum_mass: f64) -> Vec<u32> {
     w
 }
 
-/// Lays out the openings of the rectangle `r`, whose words start at `at`: word 22 the offset of
+/// Lays out the openings of the grid `r`, whose words start at `at`: word 22 the offset of
 /// its polygons (each its corner count, then its corners' in-face coordinates, m, as f32 pairs),
 /// 23 their count, 24 the offset of its cells' hole bits (bit `c % 32` of word `c / 32`: cell
 /// `c`'s centre lies in an opening). All zero without openings.
-fn openings_words(words: &mut Vec<u32>, at: usize, r: &spraysim_engine::deposit::RectangleSurface) {
+fn openings_words<C: Chart>(words: &mut Vec<u32>, at: usize, r: &GridSurface<C>) {
     let openings = r.openings();
     if openings.is_empty() {
         return;
@@ -282,9 +304,20 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
     for (t, target) in job.targets.iter().enumerate() {
         let at = targets_at + TARGET_WORDS * t;
         first_cells.push(cells);
-        let Surface::Rectangle(r) = &target.surface else { continue };
-        let field = &r.field;
-        face_words(&mut words, at, &r.chart);
+        let field = match &target.surface {
+            Surface::Rectangle(r) => {
+                face_words(&mut words, at, &r.chart);
+                openings_words(&mut words, at, r);
+                &r.field
+            }
+            Surface::Cylinder(c) => {
+                shell_words(&mut words, at, c);
+                openings_words(&mut words, at, c);
+                &c.field
+            }
+            // The scope check has refused every other surface.
+            Surface::Mesh(_) => continue,
+        };
         words[at + 14] = field.cols() as u32;
         words[at + 15] = field.rows() as u32;
         words[at + 16] = cells;
@@ -304,7 +337,6 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         }
         // The thickness one quantum adds to one of its cells, m.
         put_f(&mut words, at + 21, config.volume_quantum() / field.cell_area());
-        openings_words(&mut words, at, r);
         if let Some(e) = &config.targets[t].erosion {
             words[at + 25] = words.len() as u32;
             words.extend(erosion_words(e, config.volume_quantum() * config.material.density));
@@ -344,8 +376,8 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
 pub fn thicknesses(job: &FlightJob<'_>) -> Vec<f32> {
     let mut out = Vec::new();
     for t in job.targets {
-        if let Surface::Rectangle(r) = &t.surface {
-            out.extend(r.field.thickness().iter().map(|&x| x as f32));
+        if !matches!(t.surface, Surface::Mesh(_)) {
+            out.extend(t.surface.thickness().iter().map(|&x| x as f32));
         }
     }
     out.push(0.0);

@@ -29,9 +29,10 @@ fn refuse(feature: impl Into<String>, key: impl Into<String>) -> Result<(), Unsu
     Err(Unsupported { feature: feature.into(), key: key.into() })
 }
 
-/// Checks that the GPU backend runs everything `config` asks for: rectangle targets (with
-/// openings, under Finnie's or Oka's erosion law); plane, face, disk, sphere, cylinder and box
-/// obstacles; the built-in rebound laws; any integrator; no gun's air and no impact log.
+/// Checks that the GPU backend runs everything `config` asks for: rectangle and cylinder-shell
+/// targets (with openings, under Finnie's or Oka's erosion law); plane, face, disk, sphere,
+/// cylinder and box obstacles; the built-in rebound laws; any integrator; no gun's air and no
+/// impact log.
 pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
     if config.motion.air.is_some() {
         return refuse("the gun's air (droplets in a jet)", "air.model");
@@ -47,16 +48,16 @@ pub fn check(config: &SimulationConfig) -> Result<(), Unsupported> {
     }
     for (i, t) in config.targets.iter().enumerate() {
         let key = format!("target[{i}] `{}`", t.name);
-        match &t.surface {
-            Surface::Rectangle(r) if r.field.splat_offsets().len() > MAX_FOOTPRINT => {
-                return refuse(
-                    format!("a deposit footprint of more than {MAX_FOOTPRINT} cells"),
-                    format!("{key}.splat_radius"),
-                );
-            }
-            Surface::Rectangle(_) => {}
-            Surface::Cylinder(_) => return refuse("cylinder-shell targets", format!("{key}.shape")),
+        let field = match &t.surface {
+            Surface::Rectangle(r) => &r.field,
+            Surface::Cylinder(c) => &c.field,
             Surface::Mesh(_) => return refuse("mesh targets", format!("{key}.mesh")),
+        };
+        if field.splat_offsets().len() > MAX_FOOTPRINT {
+            return refuse(
+                format!("a deposit footprint of more than {MAX_FOOTPRINT} cells"),
+                format!("{key}.splat_radius"),
+            );
         }
         if let Some(e) = &t.erosion {
             for (law, part) in [(&e.coating_law, "coating"), (&e.substrate_law, "substrate")] {

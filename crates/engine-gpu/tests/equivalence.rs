@@ -1,6 +1,6 @@
 //! The GPU backend against the CPU engine on whole runs: fates, rebound, the layers' moments,
-//! obstacles, openings, erosion, and material released by cohesive failures, over several seeds,
-//! within derived statistical tolerances; conservation and determinism exactly.
+//! obstacles, openings, shells, erosion, and material released by cohesive failures, over
+//! several seeds, within derived statistical tolerances; conservation and determinism exactly.
 
 mod common;
 
@@ -54,13 +54,15 @@ fn same_mean(what: &str, a: &[f64], b: &[f64], floor: f64) {
 /// A figure of a run's metrics.
 type Figure = dyn Fn(&Metrics) -> f64;
 
-/// Volume, centroid (along y and z) and radius of gyration of the wall's layer, m³ and m.
+/// Volume, centroid (across and up its grid) and radius of gyration of the first target's
+/// layer, m³ and m.
 fn moments(sim: &Simulation) -> [f64; 4] {
     let wall = &sim.targets()[0];
     let thickness = wall.surface.thickness();
     let field = match &wall.surface {
         Surface::Rectangle(r) => &r.field,
-        _ => panic!("the wall is a rectangle"),
+        Surface::Cylinder(c) => &c.field,
+        Surface::Mesh(_) => panic!("the first target has a grid"),
     };
     let (mut v, mut u1, mut v1, mut r2) = (0.0, 0.0, 0.0, 0.0);
     for (c, &t) in thickness.iter().enumerate() {
@@ -393,5 +395,53 @@ fn blasting_wears_the_coat_and_the_steel_on_the_gpu_as_on_the_cpu() {
         let (c, g) = (per_seed(&cpu), per_seed(&gpu_runs));
         assert!(c.iter().all(|&x| x > 0.0), "{what}: {c:?} on the CPU, nothing to test");
         same_mean(what, &c, &g, 0.0);
+    }
+}
+
+#[test]
+fn shotcrete_onto_a_tunnel_arch_agrees_with_the_cpu_engine() {
+    let Some(gpu) = common::gpu() else { return };
+    // A 1.5 m arch (45° to 135°, sprayed from inside) from a nozzle 1.3 m under its crown, over
+    // an invert that catches the rebound: the shares, and the layer's moments on the unrolled arch.
+    let scene = |seed: u64| {
+        let text = format!(
+            "[simulation]\nduration = 0.3\nseed = {seed}\n[emitter]\nspawn_rate = 20000.0\n\
+             [nozzle]\nposition = [0.0, 0.0, 0.2]\naxis = [0.0, 0.0, 1.0]\n\
+             [[target]]\nname = \"arch\"\nshape = \"cylinder\"\ncenter = [0.0, 0.0, 0.0]\naxis = [0.0, 1.0, 0.0]\n\
+             radius = 1.5\nlength = 2.0\nangles = [45.0, 135.0]\nside = \"inside\"\nresolution = [236, 200]\n{}",
+            floor().named("invert").at([0.0, 0.0, -1.0]).size(3.0, 3.0),
+        );
+        scenario(&text, "shotcrete onto an arch")
+    };
+    let (mut cpu, mut gpu_runs) = (Vec::new(), Vec::new());
+    for seed in 1..=SEEDS {
+        cpu.push(run(&scene(seed), None));
+        gpu_runs.push(run(&scene(100 + seed), Some(&gpu)));
+    }
+    let metrics = |runs: &[Simulation]| runs.iter().map(Simulation::metrics).collect::<Vec<_>>();
+    let (mc, mg) = (metrics(&cpu), metrics(&gpu_runs));
+    mg.iter().for_each(conserved);
+    let share = |ms: &[Metrics], f: &Figure| {
+        let n: f64 = ms.iter().map(|m| m.emitted.count as f64).sum();
+        (ms.iter().map(f).sum::<f64>() / n, n)
+    };
+    let cases: [(&str, &Figure); 3] = [
+        ("stuck on the arch", &|m| m.targets[0].stuck.count as f64),
+        ("bounced at first impact", &|m| m.bounce_ratio.unwrap_or(0.0) * m.emitted.count as f64),
+        ("in flight at the end", &|m| m.fates.in_flight.count as f64),
+    ];
+    for (what, f) in cases {
+        let (c, g) = (share(&mc, f), share(&mg, f));
+        assert!(c.0 > 0.02, "{what}: {:.4} on the CPU, too few to test", c.0);
+        same_share(what, c, g);
+    }
+    let per_seed = |runs: &[Simulation], k: usize| runs.iter().map(|s| moments(s)[k]).collect::<Vec<_>>();
+    for (k, what, floor) in [
+        (0, "layer volume", 0.0),
+        (1, "centroid along the arc", 1e-3),
+        (2, "centroid along the axis", 1e-3),
+        (3, "radius of gyration", 1e-3),
+    ] {
+        same_mean(what, &per_seed(&cpu, k), &per_seed(&gpu_runs, k), floor);
     }
 }

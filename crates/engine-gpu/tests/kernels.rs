@@ -1,14 +1,16 @@
 //! The flight kernel against closed forms, on random inputs with their boundary cases: forward
 //! Euler flights onto a wall (where they strike, and which miss its edges), through its openings
-//! and beside them, the wear of each impact under the erosion laws, and the 64-bit arithmetic of
-//! deposits shared over a footprint.
+//! and beside them, onto both sides of cylindrical shells and past their edges, the wear of each
+//! impact under the erosion laws, and the 64-bit arithmetic of deposits shared over a footprint.
 
 mod common;
 
 use glam::{DQuat, DVec3};
-use spraysim_engine::collision::{Aabb, Face, OrientedBox, Primitive, Shape};
+use spraysim_engine::collision::{Aabb, CylinderShell, Face, OrientedBox, Primitive, Shape};
 use spraysim_engine::config::ObstacleConfig;
-use spraysim_engine::deposit::{DepositSurface, Opening, RectangleSurface, Surface, footprint_cells};
+use spraysim_engine::deposit::{
+    Chart, CylinderSurface, DepositSurface, Opening, RectangleSurface, ShellChart, Surface, footprint_cells,
+};
 use spraysim_engine::particles::{Particle, flags};
 use spraysim_engine::pipeline::{FlightJob, FlightStage};
 use spraysim_engine::process::rebound::NeverRebound;
@@ -599,4 +601,172 @@ fn each_impact_wears_coating_and_substrate_as_the_erosion_laws_say() {
             );
         }
     }
+}
+
+/// Where forward Euler from `x`, `v` first meets `shell` within `steps` steps of `dt`, in f64, by
+/// the engine's own test of each step's chord: the point, and whether it strikes the side the
+/// chart receives spray on (its front).
+fn euler_shell_hit(
+    chart: &ShellChart,
+    mut x: DVec3,
+    mut v: DVec3,
+    dt: f64,
+    g: DVec3,
+) -> Option<(DVec3, bool)> {
+    for _ in 0..400 {
+        let x1 = x + v * dt;
+        if let Some(h) = chart.shell.intersect(x, x1) {
+            let (u, _, _) = chart.local(h.point);
+            return Some((h.point, h.normal.dot(chart.frame(u, 0.0).0) > 0.0));
+        }
+        x = x1;
+        v += g * dt;
+    }
+    None
+}
+
+/// Flights onto `chart`'s shell (sticky, 240 × 160 cells), in steps of `dt` (s), from `start`s
+/// towards `aim`s, judged
+/// against the engine's shell path by path: each strikes the same side at the same point (its
+/// front in the same cell) or misses. Flights whose outcome f32 could change (the shell grown or
+/// shrunk by `F32_REACH` disagrees, or the point lies that close to a cell's border) are not
+/// flown. Returns (front hits, back hits, misses).
+fn shell_flights(
+    gpu: &spraysim_gpu::GpuFlight,
+    (chart, dt): (ShellChart, f64),
+    seed: u64,
+    mut path: impl FnMut(&mut Draws) -> (DVec3, DVec3),
+) -> (u64, u64, u64) {
+    let mut config = sticky_wall(0.0);
+    config.dt = dt;
+    let surface = CylinderSurface::new(chart, 240, 160, 0.0);
+    config.targets[0].surface = Surface::Cylinder(surface);
+    let sim = Simulation::new(config.clone()).expect("valid");
+    let Surface::Cylinder(grid) = &sim.targets()[0].surface else { panic!("a shell") };
+    let field = &grid.field;
+    let g = config.motion.gravity;
+    let resized = |by: f64| {
+        let mut c = chart;
+        let reach = by / c.shell.radius;
+        (c.shell.radius, c.shell.half_length) = (c.shell.radius + by, c.shell.half_length + by);
+        c.shell.angles = [c.shell.angles[0] - reach, c.shell.angles[1] + reach];
+        c
+    };
+    let (outer, inner) = (resized(F32_REACH), resized(-F32_REACH));
+    let outcome = |c: &ShellChart, p: &Particle| {
+        euler_shell_hit(c, p.anchor, p.anchor_velocity(), dt, g).map(|(_, front)| front)
+    };
+    let mut draws = Draws(seed);
+    let particles: Vec<Particle> = (0..4000u32)
+        .map(|id| {
+            let (start, aim) = path(&mut draws);
+            Particle::new(start, (aim - start).normalize() * (8.0 + 8.0 * draws.next()), 0, id, flags::ALIVE)
+        })
+        .filter(|p| outcome(&outer, p) == outcome(&inner, p))
+        .filter(|p| match euler_shell_hit(&chart, p.anchor, p.anchor_velocity(), dt, g) {
+            Some((point, true)) => {
+                let (u, v, _) = chart.local(point);
+                let (w, h) = chart.size();
+                let (cw, ch) = field.cell_size();
+                let border = |x: f64, size: f64| {
+                    let f = (x / size).rem_euclid(1.0);
+                    f.min(1.0 - f) * size
+                };
+                border(u + 0.5 * w, cw).min(border(v + 0.5 * h, ch)) > F32_REACH
+            }
+            _ => true,
+        })
+        .collect();
+    let report = one_epoch(gpu, &config, &sim, &particles);
+    let mut hits = vec![0u32; field.thickness().len()];
+    let (mut front, mut back, mut missed) = (0, 0, 0);
+    for (p, q) in particles.iter().zip(&report.particles) {
+        match euler_shell_hit(&chart, p.anchor, p.anchor_velocity(), dt, g) {
+            Some((point, side)) => {
+                assert!(!q.is_alive(), "particle {} should have struck the shell at {point}", p.id);
+                let err = (q.anchor - point).length();
+                assert!(
+                    err < 0.5 * F32_REACH,
+                    "particle {}: struck {} from the engine's {point}",
+                    p.id,
+                    q.anchor
+                );
+                if side {
+                    front += 1;
+                    hits[grid.cell_at(0, point) as usize] += 1;
+                } else {
+                    back += 1;
+                }
+            }
+            None => {
+                missed += 1;
+                assert_eq!(q.impacts(), 0, "particle {} misses the shell", p.id);
+            }
+        }
+    }
+    let tally = &report.targets[0];
+    assert_eq!((tally.stuck.count, tally.stuck_back.count), (front, back), "front and back");
+    for c in &report.cells[0] {
+        assert_eq!(c.hits, hits[c.cell as usize], "impacts in cell {}", c.cell);
+    }
+    assert_eq!(report.cells[0].len(), hits.iter().filter(|&&h| h > 0).count(), "the cells struck");
+    (front, back, missed)
+}
+
+#[test]
+fn flights_strike_both_sides_of_shells_and_pass_their_edges_where_the_engine_says() {
+    let Some(gpu) = common::gpu() else { return };
+    let shell = |radius: f64, angles: [f64; 2], inside: bool| ShellChart {
+        shell: CylinderShell::new(
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::Y,
+            DVec3::X,
+            radius,
+            2.0,
+            angles.map(f64::to_radians),
+        )
+        .expect("a shell"),
+        inside,
+    };
+    // A tunnel's arch (30° to 150°, sprayed from inside), from points near its axis in all
+    // directions: the arch, or out past its springlines and ends.
+    let arch = shell(1.5, [30.0, 150.0], true);
+    let (front, back, missed) = shell_flights(&gpu, (arch, 1e-3), 0x3c6e_f372_fe94_f82b, |d| {
+        let start = DVec3::new(0.6 * d.next() - 0.3, 1.6 * d.next() - 0.8, 1.0 + 0.6 * d.next() - 0.3);
+        let aim = DVec3::new(4.0 * d.next() - 2.0, 3.0 * d.next() - 1.5, 1.0 + 4.0 * d.next() - 2.0);
+        (start, aim)
+    });
+    assert!(front > 500 && missed > 500 && back == 0, "arch: {front} front, {back} back, {missed} missed");
+    // The same arch from behind (the rock's side): onto its back from above, or up through the
+    // open invert and onto the arch from inside, in steps of 2 to 4 m, so that many pass the
+    // invert and strike the arch within one step.
+    let (front, back, _) = shell_flights(&gpu, (arch, 0.25), 0x1f83_d9ab_fb41_bd6b, |d| {
+        let around = std::f64::consts::PI * (0.1 + 1.8 * d.next());
+        let r = 2.0 + 0.5 * d.next();
+        let start = DVec3::new(r * around.cos(), 1.6 * d.next() - 0.8, 1.0 + r * around.sin());
+        (start, DVec3::new(0.8 * d.next() - 0.4, 1.6 * d.next() - 0.8, 1.0 + 0.8 * d.next() - 0.4))
+    });
+    assert!(front > 300 && back > 300, "arch from behind: {front} front, {back} back");
+    // The upper half of a pipe (0° to 180°, sprayed from outside), from all round: its outside,
+    // or from below into it and onto the back of its far side (in steps of 0.4 to 0.8 m, within
+    // one step for many), or past it.
+    let half_pipe = shell(0.4, [0.0, 180.0], false);
+    let (front, back, missed) = shell_flights(&gpu, (half_pipe, 0.05), 0xa54f_f53a_5f1d_36f1, |d| {
+        let around = std::f64::consts::TAU * d.next();
+        let start = DVec3::new(around.cos(), 1.6 * d.next() - 0.8, 1.0 + around.sin());
+        let aim = DVec3::new(0.8 * d.next() - 0.4, 2.4 * d.next() - 1.2, 1.0 + 0.8 * d.next() - 0.4);
+        (start, aim)
+    });
+    assert!(
+        front > 1000 && back > 300 && missed > 300,
+        "half pipe: {front} front, {back} back, {missed} missed"
+    );
+    // A whole pipe (its grid wraps), from outside.
+    let pipe = shell(0.4, [0.0, 360.0], false);
+    let (front, back, _) = shell_flights(&gpu, (pipe, 1e-3), 0x510e_527f_ade6_82d1, |d| {
+        let around = std::f64::consts::TAU * d.next();
+        let start = DVec3::new(around.cos(), 1.6 * d.next() - 0.8, 1.0 + around.sin());
+        (start, DVec3::new(0.6 * d.next() - 0.3, 2.4 * d.next() - 1.2, 1.0 + 0.6 * d.next() - 0.3))
+    });
+    assert!(front > 2000 && back == 0, "pipe: {front} front, {back} back");
 }

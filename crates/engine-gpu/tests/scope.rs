@@ -12,7 +12,7 @@ fn refusal(sc: &Scenario) -> String {
 }
 
 #[test]
-fn the_default_scene_the_processes_erosion_and_walls_with_openings_lie_in_scope() {
+fn the_default_scene_the_processes_erosion_openings_and_shells_lie_in_scope() {
     assert_eq!(check(&Scenario::default_scene().config()), Ok(()));
     for preset in ["painting", "blasting"] {
         let other = Scenario::default_scene().with("process.preset", preset).expect("valid");
@@ -22,11 +22,14 @@ fn the_default_scene_the_processes_erosion_and_walls_with_openings_lie_in_scope(
     assert_eq!(check(&oka.config()), Ok(()));
     let window = wall().with("[[target.opening]]\ncenter = [0.0, 0.0]\nsize = [0.4, 0.4]");
     assert_eq!(check(&scenario(&format!("{NOZZLE_AT_WALL}{window}"), "a window").config()), Ok(()));
+    let pipe = "[[target]]\nname = \"pipe\"\nshape = \"cylinder\"\ncenter = [0.5, 0.0, 1.0]\n\
+                axis = [0.0, 0.0, 1.0]\nradius = 0.3\nlength = 1.0\nside = \"outside\"\n";
+    assert_eq!(check(&scenario(pipe, "a pipe").config()), Ok(()));
 }
 
 #[test]
 fn features_outside_the_scope_are_refused_by_name_and_key() {
-    let cases: [(Scenario, &str, &str); 3] = [
+    let cases: [(Scenario, &str, &str); 2] = [
         (
             Scenario::default_scene().with("output.impact_log", 0.5).expect("valid"),
             "impact log",
@@ -41,14 +44,6 @@ fn features_outside_the_scope_are_refused_by_name_and_key() {
                 .expect("valid"),
             "the gun's air",
             "air.model",
-        ),
-        (
-            scenario(
-                "[[target]]\nname = \"pipe\"\nshape = \"cylinder\"\ncenter = [0.5, 0.0, 1.0]\naxis = [0.0, 0.0, 1.0]\nradius = 0.3\nlength = 1.0\n",
-                "shell",
-            ),
-            "cylinder-shell targets",
-            "target[0] `pipe`.shape",
         ),
     ];
     for (sc, feature, key) in cases {
@@ -79,4 +74,18 @@ fn an_erosion_law_defined_outside_the_engine_is_refused_by_name() {
             && message.contains("target[0] `wall`.erosion"),
         "{message}"
     );
+}
+
+#[test]
+fn a_mesh_target_is_refused_by_name() {
+    use glam::DVec3;
+    use spraysim_engine::collision::Triangle;
+    use spraysim_engine::deposit::{MeshSurface, Surface};
+    let mut config = Scenario::default_scene().config();
+    let triangle =
+        Triangle::new(DVec3::new(0.0, -1.0, 0.0), DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.0, 0.0, 2.0))
+            .expect("a triangle");
+    config.targets[0].surface = Surface::Mesh(MeshSurface::new(vec![triangle]).expect("a mesh"));
+    let message = check(&config).map(|()| String::new()).unwrap_or_else(|e| e.to_string());
+    assert!(message.contains("mesh targets") && message.contains("target[0] `wall`.mesh"), "{message}");
 }
