@@ -1,6 +1,8 @@
 // The flight of one particle per invocation through the steps of one layer epoch (or part of
 // one), against the layers as they stood at the epoch's start: the GPU twin of the engine's
-// `pipeline/kernel.rs`, in f32, with every surface tested in every step. A call dispatches
+// `pipeline/kernel.rs`, in f32, with every surface tested in every step. A dispatch covers
+// every member of a batch (one simulation's call each, with its own parameters, scene, layers
+// and counters; one member for a single run). A call dispatches
 // `restore` (the layers as the call finds them), then, per epoch, `fly` (its steps in the
 // parameters at the epoch's dynamic offset), `census`, `settle` (the layers brought up to date
 // with what the call has deposited so far) and `census` again, and `gather` to end. `census`
@@ -12,15 +14,22 @@
 // sums do not depend on the order of the invocations: volumes in quanta as 64-bit pairs
 // (low word, high word, the carry added by whoever wraps the low word).
 
+// The parameters of a call's epoch, for every member of the batch.
 struct Params {
+    steps: vec4<u32>,      // from, to, particle slots of all members, invocations per dispatch row
+    sizes: vec4<u32>,      // members, targets of all members, cells of all grids, whether any target erodes
+}
+
+// One member of the batch (one simulation's call), as `load_member` reads it from its
+// MEMBER_WORDS words at the start of `scene`.
+struct Member {
     gravity_dt: vec4<f32>, // g (m/s²), Δt (s)
     min_drag: vec4<f32>,   // domain min (m), quadratic drag k (1/m)
     max_life: vec4<f32>,   // domain max (m), lifetime in steps
-    steps: vec4<u32>,      // from, to, particle count, integrator (0 Euler, 1 semi-implicit, 2 exact)
-    seed: vec4<u32>,       // seed low, seed high, impacts per step, invocations per dispatch row
-    sizes: vec4<u32>,      // targets, obstacle shapes, released particles, nozzle quanta
-    tables: vec4<u32>,     // word offsets of: targets, shapes, released table; cells in all grids
-    wear: vec4<u32>,       // whether any target erodes, then unused
+    run: vec4<u32>,        // integrator (0 Euler, 1 semi-implicit, 2 exact), seed low, seed high, impacts per step
+    sizes: vec4<u32>,      // targets, obstacle shapes, released particles, a nozzle particle's quanta
+    tables: vec4<u32>,     // word offsets of its own words (its models first), targets, shapes, released table
+    place: vec4<u32>,      // its first particle slot, first target over all members, first cell, counter words
 }
 
 // 36 bytes a slot: position (m), velocity (m/s), birth step, id, impacts (low 12 bits) and
@@ -52,6 +61,15 @@ struct Particle {
 // same for each listed cell. A spare word where nothing erodes.
 @group(0) @binding(8) var<storage, read_write> wear: array<atomic<u32>>;
 
+// The member the invocation flies a particle of.
+var<private> M: Member;
+
+const MEMBER_WORDS: u32 = 28u;
+// Words of each target in the table of all members' targets (after the members' words): its
+// first cell over all grids, a quantum's thickness on one of its cells (f32 bits), the counter
+// word that holds its band, and a spare.
+const TABLE_WORDS: u32 = 4u;
+
 const ALIVE: u32 = 1u;
 const HIT_SUBSTRATE: u32 = 2u;
 const RELEASED: u32 = 4u;
@@ -79,12 +97,13 @@ const LAW_WORDS: u32 = 8u;
 // Shape words.
 const SHAPE_WORDS: u32 = 16u;
 
-// Counters: [0, 1] particle-steps (low, high), [2] cells listed, then the run's fates (slots of
+// Counters: [0] the cells listed (of all members), three spare words, then each member's from
+// its `place.w`: [0, 1] particle-steps (low, high), two spare words, then its fates (slots of
 // 4 words: count, quanta low, quanta high, unused), then per target and per obstacle. The
 // fourth word of a target's first slot holds the band its layer may fill (f32 bits, m: at least
 // its thickest cell's thickness, raised by `settle`).
+const C_LISTED: u32 = 0u;
 const C_STEPS: u32 = 0u;
-const C_LISTED: u32 = 2u;
 const C_TALLY: u32 = 4u;
 const T_LEFT: u32 = 0u;
 const T_EXPIRED: u32 = 1u;
@@ -119,6 +138,45 @@ fn v3(at: u32) -> vec3<f32> {
     return vec3<f32>(f(at), f(at + 1u), f(at + 2u));
 }
 
+fn u4(at: u32) -> vec4<u32> {
+    return vec4<u32>(scene[at], scene[at + 1u], scene[at + 2u], scene[at + 3u]);
+}
+
+fn f4(at: u32) -> vec4<f32> {
+    return bitcast<vec4<f32>>(u4(at));
+}
+
+// Reads member m into `M`.
+fn load_member(m: u32) {
+    let at = MEMBER_WORDS * m;
+    M = Member(f4(at), f4(at + 4u), f4(at + 8u), u4(at + 12u), u4(at + 16u), u4(at + 20u), u4(at + 24u));
+}
+
+// The member whose particle slots hold slot i: the last whose first slot is not past it.
+fn member_of(i: u32) -> u32 {
+    var lo = 0u;
+    var hi = params.sizes.x;
+    while (hi - lo > 1u) {
+        let mid = (lo + hi) / 2u;
+        if (scene[MEMBER_WORDS * mid + 24u] <= i) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// A word offset written in the member's own words (relative to their start), made absolute.
+fn own(relative: u32) -> u32 {
+    return M.tables.x + relative;
+}
+
+// The first cell (over all grids) of the target at `at` in the member's words.
+fn first_cell(at: u32) -> u32 {
+    return M.place.z + scene[at + 16u];
+}
+
 // ---- Integer books ----
 
 fn add64(at: u32, q: vec2<u32>) {
@@ -131,20 +189,20 @@ fn add64(at: u32, q: vec2<u32>) {
 
 // Counts one particle of `q` quanta in the run's fate `slot`.
 fn tally(slot: u32, q: vec2<u32>) {
-    count_at(C_TALLY + 4u * slot, q);
+    count_at(M.place.w + C_TALLY + 4u * slot, q);
 }
 
 fn target_slot(t: u32, slot: u32) -> u32 {
-    return C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * t + slot);
+    return M.place.w + C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * t + slot);
 }
 
-// The band target t's layer may fill, m: no cell of the epoch's layers is thicker.
+// The band the member's target t's layer may fill, m: no cell of the epoch's layers is thicker.
 fn band(t: u32) -> f32 {
-    return bitcast<f32>(plan[1u + t]);
+    return bitcast<f32>(plan[1u + M.place.y + t]);
 }
 
 fn obstacle_slot(o: u32, slot: u32) -> u32 {
-    return C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * params.sizes.x + OBSTACLE_SLOTS * o + slot);
+    return M.place.w + C_TALLY + 4u * TALLY_SLOTS + 4u * (TARGET_SLOTS * M.sizes.x + OBSTACLE_SLOTS * o + slot);
 }
 
 // Counts one particle of `q` quanta in the slot at counter word `at` (count, low, high).
@@ -216,8 +274,8 @@ fn mix32(x0: u32) -> u32 {
 
 // A uniform draw in [0, 1) with 24 bits.
 fn uniform01(id: u32, event: u32, draw: u32) -> f32 {
-    var h = mix32(params.seed.x ^ 0x9e3779b9u);
-    h = mix32(h ^ params.seed.y);
+    var h = mix32(M.run.y ^ 0x9e3779b9u);
+    h = mix32(h ^ M.run.z);
     h = mix32(h ^ id);
     h = mix32(h ^ event);
     h = mix32(h ^ (draw * 0x85ebca6bu));
@@ -227,8 +285,8 @@ fn uniform01(id: u32, event: u32, draw: u32) -> f32 {
 // ---- Motion ----
 
 fn acceleration(v: vec3<f32>) -> vec3<f32> {
-    let g = params.gravity_dt.xyz;
-    let k = params.min_drag.w;
+    let g = M.gravity_dt.xyz;
+    let k = M.min_drag.w;
     if (k == 0.0) {
         return g;
     }
@@ -244,9 +302,9 @@ fn advance(x: vec3<f32>, v: vec3<f32>, h: f32) -> State {
     let a = acceleration(v);
     let v1 = v + a * h;
     var x1 = x + v * h;
-    if (params.steps.w == 1u) {
+    if (M.run.x == 1u) {
         x1 = x + v1 * h;
-    } else if (params.steps.w == 2u) {
+    } else if (M.run.x == 2u) {
         x1 = x + v * h + 0.5 * a * h * h;
     }
     return State(x1, v1);
@@ -505,7 +563,7 @@ fn column(at: u32, c: i32) -> i32 {
 // True if the in-face point uv (m from the centre) lies in one of the openings of the target at
 // `at`: the even–odd rule over each polygon, as the engine's `Opening::contains`.
 fn in_opening(at: u32, uv: vec2<f32>) -> bool {
-    var w = scene[at + 22u];
+    var w = own(scene[at + 22u]);
     for (var o = 0u; o < scene[at + 23u]; o++) {
         let n = scene[w];
         var inside = false;
@@ -528,7 +586,7 @@ fn in_opening(at: u32, uv: vec2<f32>) -> bool {
 // True if the cell (of the target at `at`) is cut away: its centre lies in an opening.
 fn is_hole(at: u32, cell: u32) -> bool {
     let bits = scene[at + 24u];
-    return bits != 0u && (scene[bits + cell / 32u] & (1u << (cell % 32u))) != 0u;
+    return bits != 0u && (scene[own(bits) + cell / 32u] & (1u << (cell % 32u))) != 0u;
 }
 
 // The cell a point uv (m from the centre) on the surface near an opening's edge is booked to:
@@ -574,7 +632,7 @@ fn solid(at: u32, cell: u32, uv: vec2<f32>) -> u32 {
 // back. A crossing of the bare surface inside an opening passes: a straight path that has
 // crossed its plane there meets nothing more of the target.
 fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
-    let at = params.tables.x + TARGET_WORDS * t;
+    let at = M.tables.y + TARGET_WORDS * t;
     if (scene[at + 29u] == SHELL) {
         return shell_hit(t, p0, p1);
     }
@@ -582,7 +640,7 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let n = v3(at + 3u);
     let hw = f(at + 12u);
     let hh = f(at + 13u);
-    let first = scene[at + 16u];
+    let first = first_cell(at);
     let top = band(t);
     let h0 = dot(p0 - c, n);
     let h1 = dot(p1 - c, n);
@@ -752,7 +810,7 @@ fn shell_level(at: u32, p0: vec3<f32>, p1: vec3<f32>, level: f32, down: bool) ->
 // read as on a rectangle (at the thickness of the cell under the crossing, found again at most
 // three times), or the bare surface; an opening lets a bare crossing pass.
 fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
-    let first = scene[at + 16u];
+    let first = first_cell(at);
     let top = band(t);
     let l0 = shell_local(at, p0);
     let h0 = l0.z;
@@ -824,7 +882,7 @@ fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
 // on the side sprayed beyond; from the side sprayed of a shell seen from outside, past its edge
 // or through an opening, the back of its far side.
 fn shell_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
-    let at = params.tables.x + TARGET_WORDS * t;
+    let at = M.tables.y + TARGET_WORDS * t;
     let h0 = shell_local(at, p0).z;
     var passed = 0.0;
     if (h0 > 0.0) {
@@ -860,14 +918,14 @@ fn shell_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
 
 fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     var best = no_hit();
-    for (var t = 0u; t < params.sizes.x; t++) {
+    for (var t = 0u; t < M.sizes.x; t++) {
         let h = target_hit(t, p0, p1);
         if (h.t < best.t) {
             best = h;
         }
     }
-    for (var k = 0u; k < params.sizes.y; k++) {
-        let h = shape_hit(params.tables.y + SHAPE_WORDS * k, p0, p1);
+    for (var k = 0u; k < M.sizes.y; k++) {
+        let h = shape_hit(M.tables.z + SHAPE_WORDS * k, p0, p1);
         if (h.t < best.t) {
             best = h;
         }
@@ -881,8 +939,8 @@ fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
 // shell's full turn, openings left out), over at most 25 × 25 of them (a wider disc is sampled
 // with a stride), m.
 fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
-    let at = params.tables.x + TARGET_WORDS * t;
-    let first = scene[at + 16u];
+    let at = M.tables.y + TARGET_WORDS * t;
+    let first = first_cell(at);
     let cols = i32(scene[at + 14u]);
     let rows = i32(scene[at + 15u]);
     let dx = 2.0 * f(at + 12u) / f32(cols);
@@ -1013,11 +1071,11 @@ fn impacts() -> u32 {
 // The volume the particle carries, quanta: the nozzle's, or a released particle's own.
 fn quanta() -> vec2<u32> {
     if ((flags() & RELEASED) == 0u) {
-        return vec2<u32>(params.sizes.w, 0u);
+        return vec2<u32>(M.sizes.w, 0u);
     }
     var lo = 0u;
-    var hi = params.sizes.z;
-    let table = params.tables.z;
+    var hi = M.sizes.z;
+    let table = M.tables.w;
     while (lo < hi) {
         let mid = (lo + hi) / 2u;
         if (scene[table + 3u * mid] < P.id) {
@@ -1026,7 +1084,7 @@ fn quanta() -> vec2<u32> {
             hi = mid;
         }
     }
-    if (lo < params.sizes.z && scene[table + 3u * lo] == P.id) {
+    if (lo < M.sizes.z && scene[table + 3u * lo] == P.id) {
         return vec2<u32>(scene[table + 3u * lo + 1u], scene[table + 3u * lo + 2u]);
     }
     return vec2<u32>(0u, 0u);
@@ -1037,7 +1095,7 @@ fn quanta() -> vec2<u32> {
 fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
     let on_target = h.owner < OBSTACLE;
     let front = on_target && h.cell != NO_CELL;
-    let model = MODEL_WORDS * select(params.sizes.x + (h.owner - OBSTACLE), h.owner, on_target);
+    let model = M.tables.x + MODEL_WORDS * select(M.sizes.x + (h.owner - OBSTACLE), h.owner, on_target);
     let fl = flags();
     let bounced = (fl & BOUNCED) != 0u;
     let released = (fl & RELEASED) != 0u;
@@ -1052,7 +1110,7 @@ fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
         cos_theta = clamp(-dot(v_in, h.normal) / speed, 0.0, 1.0);
         if (front) {
             // On a layer, θ is taken on the bare surface (as the field's curves are).
-            let at = params.tables.x + TARGET_WORDS * h.owner;
+            let at = M.tables.y + TARGET_WORDS * h.owner;
             var bare = v3(at + 3u);
             if (scene[at + 29u] == SHELL) {
                 bare = shell_normal(at, h.point);
@@ -1132,15 +1190,15 @@ fn wear_quanta(volume: f32, per_m3: f32) -> vec2<u32> {
 // (of `speed`) by `q` quanta of material would wear away, in the struck cell, where the target
 // erodes.
 fn erode(h: Hit, v_in: vec3<f32>, speed: f32, q: vec2<u32>) {
-    let at = params.tables.x + TARGET_WORDS * h.owner;
-    let e = scene[at + 25u];
-    if (e == 0u) {
+    let at = M.tables.y + TARGET_WORDS * h.owner;
+    if (scene[at + 25u] == 0u) {
         return;
     }
+    let e = own(scene[at + 25u]);
     // sin γ, γ the impact angle from the surface.
     let s = clamp(-dot(v_in, h.normal) / max(speed, 1e-30), 0.0, 1.0);
     let mass = (f32(q.y) * 4294967296.0 + f32(q.x)) * f(e);
-    let cell = 4u * (scene[at + 16u] + h.cell);
+    let cell = 4u * (first_cell(at) + h.cell);
     add_wear(cell, wear_quanta(removed(e + 2u, mass, speed, s), f(e + 1u)));
     add_wear(cell + 2u, wear_quanta(removed(e + 2u + LAW_WORDS, mass, speed, s), f(e + 1u)));
 }
@@ -1155,7 +1213,7 @@ fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: 
         return;
     }
     let t = h.owner;
-    let at = params.tables.x + TARGET_WORDS * t;
+    let at = M.tables.y + TARGET_WORDS * t;
     atomicAdd(&counters[target_slot(t, TG_HITS)], 1u);
     if (stuck) {
         if (released) {
@@ -1185,7 +1243,7 @@ fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: 
     if (!front) {
         return;
     }
-    let first = scene[at + 16u];
+    let first = first_cell(at);
     atomicAdd(&cells[4u * (first + h.cell) + 2u], 1u);
     mark(first + h.cell);
     if (stuck) {
@@ -1198,7 +1256,7 @@ fn book(h: Hit, front: bool, stuck: bool, loose: bool, bounced: bool, released: 
 fn splat(at: u32, first: u32, cell: u32, q: vec2<u32>) {
     let cols = i32(scene[at + 14u]);
     let rows = i32(scene[at + 15u]);
-    let offsets = scene[at + 19u];
+    let offsets = own(scene[at + 19u]);
     let count = scene[at + 20u];
     let row = i32(cell) / cols;
     let col = i32(cell) % cols;
@@ -1224,8 +1282,8 @@ fn full_step(s: u32) {
     let q = quanta();
     var x = vec3<f32>(P.x, P.y, P.z);
     var v = vec3<f32>(P.vx, P.vy, P.vz);
-    var remaining = params.gravity_dt.w;
-    for (var k = 0u; k < params.seed.z; k++) {
+    var remaining = M.gravity_dt.w;
+    for (var k = 0u; k < M.run.w; k++) {
         let end = advance(x, v, remaining);
         let h = first_hit(x, end.x);
         if (h.t > 1.0) {
@@ -1271,8 +1329,8 @@ fn full_step(s: u32) {
     P.vz = v.z;
     let released = (flags() & RELEASED) != 0u;
     let age = f32(s + 1u - P.born);
-    let left = any(x < params.min_drag.xyz) || any(x > params.max_life.xyz);
-    if (!left && age <= params.max_life.w && impacts() < MAX_IMPACTS) {
+    let left = any(x < M.min_drag.xyz) || any(x > M.max_life.xyz);
+    if (!left && age <= M.max_life.w && impacts() < MAX_IMPACTS) {
         return;
     }
     var slot = T_EXPIRED;
@@ -1287,13 +1345,13 @@ fn full_step(s: u32) {
     set_flags(flags() & ~ALIVE);
 }
 
-// Flies particle i through the epoch's steps; returns the steps it took.
+// Flies particle i (of member `M`) through the epoch's steps; returns the steps it took.
 fn fly_one(i: u32) -> u32 {
     if (i >= params.steps.z) {
         return 0u;
     }
     P = particles[i];
-    // Retired, or born in a later epoch of the call.
+    // Retired (or a slot that pads a member to whole workgroups), or born in a later epoch.
     if ((flags() & ALIVE) == 0u || P.born >= params.steps.y) {
         return 0u;
     }
@@ -1308,19 +1366,29 @@ fn fly_one(i: u32) -> u32 {
     return steps;
 }
 
-// The particle-steps of a workgroup, added up there before one global addition.
+// The particle-steps of a workgroup, added up there before one addition to its member's.
 var<workgroup> group_steps: atomic<u32>;
 
+// Each member's slots fill whole workgroups, so that a workgroup flies one member's particles.
 @compute @workgroup_size(64)
-fn fly(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+fn fly(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let first = wid.x * 64u + wid.y * params.steps.w;
+    if (first >= params.steps.z) {
+        return;
+    }
+    let i = first + lid;
+    load_member(member_of(first));
     if (lid == 0u) {
         atomicStore(&group_steps, 0u);
     }
     workgroupBarrier();
-    atomicAdd(&group_steps, fly_one(gid.x + gid.y * params.seed.w));
+    atomicAdd(&group_steps, fly_one(i));
     workgroupBarrier();
     if (lid == 0u) {
-        add64(C_STEPS, vec2<u32>(atomicLoad(&group_steps), 0u));
+        add64(M.place.w + C_STEPS, vec2<u32>(atomicLoad(&group_steps), 0u));
     }
 }
 
@@ -1328,11 +1396,11 @@ fn fly(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_
 // found them (the second), whatever the last call left there.
 @compute @workgroup_size(64)
 fn restore(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = gid.x + gid.y * params.seed.w;
-    if (c > params.tables.w) {
+    let c = gid.x + gid.y * params.steps.w;
+    if (c > params.sizes.z) {
         return;
     }
-    thickness[c] = thickness[params.tables.w + 1u + c];
+    thickness[c] = thickness[params.sizes.z + 1u + c];
 }
 
 // One workgroup: the cells listed and each target's band, copied into `plan`.
@@ -1341,8 +1409,9 @@ fn census(@builtin(local_invocation_index) lid: u32) {
     if (lid == 0u) {
         plan[0] = atomicLoad(&counters[C_LISTED]);
     }
-    for (var t = lid; t < params.sizes.x; t += 64u) {
-        plan[1u + t] = atomicLoad(&counters[target_slot(t, TG_HITS) + 3u]);
+    let table = MEMBER_WORDS * params.sizes.x;
+    for (var t = lid; t < params.sizes.y; t += 64u) {
+        plan[1u + t] = atomicLoad(&counters[scene[table + TABLE_WORDS * t + 2u]]);
     }
 }
 
@@ -1350,7 +1419,7 @@ fn census(@builtin(local_invocation_index) lid: u32) {
 // into the listed part of `wear`) and clears the cell for the next call.
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.x + gid.y * params.seed.w;
+    let k = gid.x + gid.y * params.steps.w;
     if (k >= plan[0]) {
         return;
     }
@@ -1359,8 +1428,8 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     listed[4u * k + 2u] = atomicExchange(&cells[4u * c + 1u], 0u);
     listed[4u * k + 3u] = atomicExchange(&cells[4u * c + 2u], 0u);
     atomicStore(&cells[4u * c + 3u], 0u);
-    if (params.wear.x != 0u) {
-        let copy = 4u * (params.tables.w + 1u + k);
+    if (params.sizes.w != 0u) {
+        let copy = 4u * (params.sizes.z + 1u + k);
         for (var j = 0u; j < 4u; j++) {
             atomicStore(&wear[copy + j], atomicExchange(&wear[4u * c + j], 0u));
         }
@@ -1372,7 +1441,7 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
 // cells), as the engine settles an epoch; the target's band is raised to it.
 @compute @workgroup_size(64)
 fn settle(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.x + gid.y * params.seed.w;
+    let k = gid.x + gid.y * params.steps.w;
     if (k >= plan[0]) {
         return;
     }
@@ -1383,18 +1452,23 @@ fn settle(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     // The target whose grid holds the cell: the last whose first cell is not past it.
+    let table = MEMBER_WORDS * params.sizes.x;
     var t = 0u;
-    for (var j = 1u; j < params.sizes.x; j++) {
-        if (scene[params.tables.x + TARGET_WORDS * j + 16u] <= c) {
-            t = j;
+    var end = params.sizes.y;
+    while (end - t > 1u) {
+        let mid = (t + end) / 2u;
+        if (scene[table + TABLE_WORDS * mid] <= c) {
+            t = mid;
+        } else {
+            end = mid;
         }
     }
-    let per_quantum = f(params.tables.x + TARGET_WORDS * t + 21u);
+    let per_quantum = f(table + TABLE_WORDS * t + 1u);
     let quanta = f32(hi) * 4294967296.0 + f32(lo);
-    let layer = max(thickness[params.tables.w + 1u + c] + quanta * per_quantum, 0.0);
+    let layer = max(thickness[params.sizes.z + 1u + c] + quanta * per_quantum, 0.0);
     thickness[c] = layer;
     // Raised only by the cells above it: few, as a layer grows slowly.
-    if (layer > band(t)) {
-        atomicMax(&counters[target_slot(t, TG_HITS) + 3u], bitcast<u32>(layer));
+    if (layer > bitcast<f32>(plan[1u + t])) {
+        atomicMax(&counters[scene[table + TABLE_WORDS * t + 2u]], bitcast<u32>(layer));
     }
 }

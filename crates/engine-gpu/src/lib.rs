@@ -50,8 +50,10 @@
 //! the engine, the gun's air and an impact log. Calls whose impacts an observer gathers as events fly on the CPU.
 
 mod device;
+mod dispatch;
 mod flight;
 mod pack;
+mod report;
 mod scope;
 
 pub use device::{EPOCHS_PER_CALL, Gpu, GpuOptions};

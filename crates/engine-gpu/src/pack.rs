@@ -1,6 +1,7 @@
 //! The job of a call laid out as the kernel reads it (see `flight.wgsl`, whose layouts these
-//! constants mirror): the parameters, one table of words for the impact models, targets, shapes
-//! and released volumes, the layers' thicknesses, and the particles.
+//! constants mirror): the parameters of an epoch, a member's words (its physics and where it
+//! lies in a dispatch), its own table of words for the impact models, targets, shapes and
+//! released volumes, the layers' thicknesses, and the particles.
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
@@ -21,8 +22,8 @@ pub const TARGET_WORDS: usize = 32;
 const SHELL: u32 = 1;
 /// Words of one obstacle shape.
 pub const SHAPE_WORDS: usize = 16;
-/// Counter words before the per-target slots: particle-steps, the cells listed, a spare word,
-/// then 7 fates of 4 words.
+/// A member's counter words before its per-target slots: particle-steps, two spare words, then
+/// 7 fates of 4 words.
 pub const TALLY_WORDS: usize = 4 + 4 * 7;
 /// Counter words per target (8 slots of 4) and per obstacle (3 slots of 4).
 pub const TARGET_COUNTER_WORDS: usize = 32;
@@ -33,31 +34,44 @@ pub const WORKGROUP: u32 = 64;
 /// Workgroups per dispatch row (the default limit per dimension is 65 535).
 pub const ROW_GROUPS: u32 = 32_768;
 
-/// The kernel's parameters (the WGSL `Params`).
+/// The parameters of one epoch of a dispatch, for all its members (the WGSL `Params`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Params {
-    /// g (m/s²), Δt (s).
-    pub gravity_dt: [f32; 4],
-    /// Domain minimum (m), quadratic drag k (1/m).
-    pub min_drag: [f32; 4],
-    /// Domain maximum (m), lifetime in steps.
-    pub max_life: [f32; 4],
-    /// First step, step after the last, particles, integrator.
+    /// First step, step after the last, particle slots of all members, invocations per
+    /// dispatch row.
     pub steps: [u32; 4],
-    /// Seed (low, high), impacts per step, invocations per dispatch row.
-    pub seed: [u32; 4],
-    /// Targets, obstacle shapes, released particles, a nozzle particle's quanta.
+    /// Members, targets of all members, cells of all grids, whether any target erodes.
     pub sizes: [u32; 4],
-    /// Word offsets of the targets, shapes and released table; cells of all grids.
-    pub tables: [u32; 4],
-    /// Whether any target erodes (its wear is gathered per cell), then unused.
-    pub wear: [u32; 4],
+}
+
+/// Words of one member at the start of the scene's words (the WGSL `Member`).
+pub const MEMBER_WORDS: usize = 28;
+/// Words of each target in the table of all members' targets, after the members' words: its
+/// first cell over all grids, a quantum's thickness on one of its cells (f32 bits), the counter
+/// word of its band, a spare.
+pub const TABLE_WORDS: usize = 4;
+/// Counter words before the members' blocks: the cells listed, and three spare words.
+pub const GLOBAL_COUNTER_WORDS: usize = 4;
+
+/// Where a member lies in a dispatch.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Place {
+    /// Offset of its own words (its models first) in the scene's words.
+    pub words: u32,
+    /// Its first particle slot.
+    pub slot: u32,
+    /// Its first target over all members.
+    pub target: u32,
+    /// Its first cell over all grids.
+    pub cell: u32,
+    /// Its first counter word.
+    pub counters: u32,
 }
 
 /// One particle slot as the kernel keeps it: 36 bytes.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuParticle {
     /// Position, m.
     pub x: [f32; 3],
@@ -99,9 +113,11 @@ impl GpuParticle {
     }
 }
 
-/// The words of a job's scene, and where each table starts.
+/// The words of a job's scene, and where each table starts: the member's own words, whose
+/// offsets (the tables', and those in target words) count from their start, wherever a
+/// dispatch puts them.
 pub struct SceneWords {
-    /// Every table, one after the other.
+    /// Every table, one after the other: the impact models first.
     pub words: Vec<u32>,
     /// Word offsets of the targets, the shapes and the released table.
     pub tables: [u32; 3],
@@ -109,9 +125,9 @@ pub struct SceneWords {
     pub shapes: u32,
     /// Released particles in the table.
     pub released: u32,
-    /// Per target, the first cell in the joined grids, and the cells in all grids.
+    /// Per target, its first cell in the member's joined grids.
     pub first_cells: Vec<u32>,
-    /// Cells of all grids.
+    /// Cells of all the member's grids.
     pub cells: u32,
     /// Whether any target erodes.
     pub erodes: bool,
@@ -380,11 +396,10 @@ pub fn thicknesses(job: &FlightJob<'_>) -> Vec<f32> {
             out.extend(t.surface.thickness().iter().map(|&x| x as f32));
         }
     }
-    out.push(0.0);
     out
 }
 
-/// The counter words at a call's start: zero, but for each target's band (see `flight.wgsl`).
+/// A member's counter words at a call's start: zero, but for each target's band (see `flight.wgsl`).
 pub fn counters(scene: &SceneWords, targets: usize, words: usize) -> Vec<u32> {
     let mut out = vec![0u32; words];
     for t in 0..targets {
@@ -394,14 +409,13 @@ pub fn counters(scene: &SceneWords, targets: usize, words: usize) -> Vec<u32> {
 }
 
 /// Target `t`'s band at the call's start (f32 bits, m), as `scene_words` wrote it.
-fn band(scene: &SceneWords, t: usize) -> u32 {
+pub fn band(scene: &SceneWords, t: usize) -> u32 {
     scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 17]
 }
 
-/// The `plan` words at a call's start: no cell listed, and each target's band (see
-/// `flight.wgsl`).
-pub fn plan(scene: &SceneWords, targets: usize) -> Vec<u32> {
-    std::iter::once(0).chain((0..targets).map(|t| band(scene, t))).collect()
+/// Target `t`'s thickness of one quantum on one of its cells (f32 bits, m).
+pub fn quantum_thickness(scene: &SceneWords, t: usize) -> u32 {
+    scene.words[scene.tables[0] as usize + TARGET_WORDS * t + 21]
 }
 
 /// The layer epochs of `job`'s steps, each as (first step, step after its last).
@@ -416,13 +430,20 @@ pub fn epochs(job: &FlightJob<'_>) -> Vec<(u64, u64)> {
     out
 }
 
-/// The parameters of the steps `from..to` of `job` over `count` particles.
-pub fn params(
+/// The parameters of the steps `from..to` of a dispatch of `slots` particle slots (all
+/// members'), with `sizes` = (members, targets, cells, whether any target erodes).
+pub fn params((from, to): (u64, u64), slots: u32, sizes: [u32; 4]) -> Params {
+    Params { steps: [from as u32, to as u32, slots, WORKGROUP * ROW_GROUPS], sizes }
+}
+
+/// The words of `job`'s member (the WGSL `Member`): its physics, seed, sizes, and where it
+/// lies (`place`); `scene` its own words, `nozzle` a nozzle particle's quanta.
+pub fn member_words(
     job: &FlightJob<'_>,
     scene: &SceneWords,
-    (count, nozzle_quanta): (u32, u32),
-    (from, to): (u64, u64),
-) -> Params {
+    nozzle: u32,
+    place: Place,
+) -> [u32; MEMBER_WORDS] {
     let c = job.config;
     let g = c.motion.gravity;
     let integrator = match c.motion.integrator {
@@ -431,14 +452,23 @@ pub fn params(
         Integrator::Exact => 2,
     };
     let (lo, hi) = (c.domain.min, c.domain.max);
-    Params {
-        gravity_dt: [g.x as f32, g.y as f32, g.z as f32, c.dt as f32],
-        min_drag: [lo.x as f32, lo.y as f32, lo.z as f32, c.motion.drag as f32],
-        max_life: [hi.x as f32, hi.y as f32, hi.z as f32, (c.material.max_lifetime / c.dt) as f32],
-        steps: [from as u32, to as u32, count, integrator],
-        seed: [c.seed as u32, (c.seed >> 32) as u32, c.max_impacts_per_step, WORKGROUP * ROW_GROUPS],
-        sizes: [job.targets.len() as u32, scene.shapes, scene.released, nozzle_quanta],
-        tables: [scene.tables[0], scene.tables[1], scene.tables[2], scene.cells],
-        wear: [u32::from(scene.erodes), 0, 0, 0],
-    }
+    let mut w = [0u32; MEMBER_WORDS];
+    put_v(&mut w, 0, g);
+    put_f(&mut w, 3, c.dt);
+    put_v(&mut w, 4, lo);
+    put_f(&mut w, 7, c.motion.drag);
+    put_v(&mut w, 8, hi);
+    put_f(&mut w, 11, c.material.max_lifetime / c.dt);
+    w[12..16].copy_from_slice(&[integrator, c.seed as u32, (c.seed >> 32) as u32, c.max_impacts_per_step]);
+    w[16..20].copy_from_slice(&[job.targets.len() as u32, scene.shapes, scene.released, nozzle]);
+    place_member(&mut w, scene, place);
+    w
+}
+
+/// Writes where a member lies (`place`) into its words: the offsets of its own words and of
+/// their tables, its first slot, target, cell and counter word.
+pub fn place_member(w: &mut [u32; MEMBER_WORDS], scene: &SceneWords, place: Place) {
+    let [targets, shapes, released] = scene.tables.map(|t| place.words + t);
+    w[20..24].copy_from_slice(&[place.words, targets, shapes, released]);
+    w[24..28].copy_from_slice(&[place.slot, place.target, place.cell, place.counters]);
 }

@@ -1,0 +1,547 @@
+//! One submission of the kernels over the members of a batch (one simulation's call each; one
+//! member for a single run): the members' words, particles, layers and counters laid out one
+//! after the other, `restore`, then per epoch `fly` (one dispatch over every member's
+//! particles), `census`, `settle` and `census` again, and `gather`; then each member's part of
+//! what was read back.
+
+use crate::GpuError;
+use crate::device::Gpu;
+use crate::pack::{
+    self, BYTES_PER_SLOT, GLOBAL_COUNTER_WORDS, GpuParticle, MEMBER_WORDS, OBSTACLE_COUNTER_WORDS, Place,
+    ROW_GROUPS, TABLE_WORDS, TALLY_WORDS, TARGET_COUNTER_WORDS, WORKGROUP,
+};
+use std::time::{Duration, Instant};
+use wgpu::util::DeviceExt;
+
+/// The kernels' source.
+const SOURCE: &str = include_str!("flight.wgsl");
+
+/// The kernels, built once per device.
+#[derive(Debug)]
+pub(crate) struct Kernels {
+    layout: wgpu::BindGroupLayout,
+    fly: wgpu::ComputePipeline,
+    restore: wgpu::ComputePipeline,
+    settle: wgpu::ComputePipeline,
+    census: wgpu::ComputePipeline,
+    gather: wgpu::ComputePipeline,
+}
+
+impl Kernels {
+    /// Builds the kernels on `gpu`; a kernel the driver cannot build is an error.
+    pub fn build(gpu: &Gpu) -> Result<Kernels, GpuError> {
+        let device = &gpu.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("flight.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SOURCE.into()),
+        });
+        let entry = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let params = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                // Each epoch's parameters at their own offset.
+                has_dynamic_offset: true,
+                min_binding_size: Some(PARAMS_BYTES),
+            },
+            count: None,
+        };
+        let mut entries = vec![params];
+        // Particles, scene (read only), layers, counters, cells, listed, plan, wear.
+        entries.extend((1..=8).map(|b| entry(b, b == 2)));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("flight"),
+            entries: &entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("flight"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
+        let (fly, restore, settle) = (pipeline("fly"), pipeline("restore"), pipeline("settle"));
+        let (census, gather) = (pipeline("census"), pipeline("gather"));
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Device(format!("the flight kernels do not build: {e}")));
+        }
+        Ok(Kernels { layout, fly, restore, settle, census, gather })
+    }
+}
+
+/// Storage that grows as dispatches need, and the layers it holds.
+#[derive(Debug, Default)]
+pub(crate) struct Buffers {
+    particles: Option<wgpu::Buffer>,
+    scene: Option<wgpu::Buffer>,
+    thickness: Option<wgpu::Buffer>,
+    counters: Option<wgpu::Buffer>,
+    cells: Option<wgpu::Buffer>,
+    listed: Option<wgpu::Buffer>,
+    plan: Option<wgpu::Buffer>,
+    wear: Option<wgpu::Buffer>,
+    readback: Option<wgpu::Buffer>,
+    /// Cells of all grids the layers' buffer is laid out for (each half: these and a spare).
+    pub layer_cells: Option<u32>,
+}
+
+/// How a member's layers reach the GPU's copy, as the call finds them.
+pub(crate) enum Layers {
+    /// Every cell of its grids (the copy holds nothing known of them).
+    Whole(Vec<f32>),
+    /// Only these spans, each from its first cell (over the member's grids): the copy holds the
+    /// rest as the call finds it.
+    Spans(Vec<(u32, Vec<f32>)>),
+}
+
+/// One member's call laid out for the kernels.
+pub(crate) struct MemberCall {
+    /// Its own words.
+    pub scene: pack::SceneWords,
+    /// Its particles.
+    pub slots: Vec<GpuParticle>,
+    /// Its words at the start of the scene, but for where it lies (filled in by `dispatch`).
+    pub words: [u32; MEMBER_WORDS],
+    /// Its counter block at the call's start.
+    pub counters: Vec<u32>,
+    /// Its layers as the call finds them.
+    pub layers: Layers,
+    /// Its first cell in the layers' buffer.
+    pub cell: u32,
+    /// The call's layer epochs, each as (first step, step after its last).
+    pub epochs: Vec<(u64, u64)>,
+}
+
+/// What a dispatch read back for one member.
+pub(crate) struct Raw {
+    /// Its particles as the call leaves them.
+    pub slots: Vec<GpuParticle>,
+    /// Its counter block.
+    pub counters: Vec<u32>,
+    /// The cells it listed, each as (cell over its own grids, quanta low, quanta high, impacts).
+    pub listed: Vec<[u32; 4]>,
+    /// Their wear (coating low, high, substrate low, high), where a target erodes.
+    pub wear: Vec<[u32; 4]>,
+}
+
+/// Where a dispatch's time went, s.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Timing {
+    pub upload: f64,
+    pub kernels: f64,
+    pub cells: f64,
+}
+
+/// Counter words of a member with `targets` targets and `obstacles` obstacles.
+pub(crate) fn counter_words(targets: usize, obstacles: usize) -> usize {
+    TALLY_WORDS + TARGET_COUNTER_WORDS * targets + OBSTACLE_COUNTER_WORDS * obstacles
+}
+
+/// Runs `members` (whose calls span the same epochs) in one submission over `cells` cells of
+/// layers (every member's region within them); returns what each read back, in their order.
+/// Where `b` holds no layers laid out for `cells` cells, every member must bring them whole.
+pub(crate) fn dispatch(
+    gpu: &Gpu,
+    kernels: &Kernels,
+    b: &mut Buffers,
+    cells: u32,
+    members: &[MemberCall],
+) -> Result<(Vec<Raw>, Timing), GpuError> {
+    let start = Instant::now();
+    let epochs = members.first().map(|m| m.epochs.clone()).unwrap_or_default();
+    if epochs.is_empty() || members.iter().any(|m| m.epochs != epochs) {
+        return Err(GpuError::Device("a dispatch of no steps, or of members of other steps".into()));
+    }
+    let whole = members.iter().all(|m| matches!(m.layers, Layers::Whole(_)));
+    if b.layer_cells != Some(cells) && !whole {
+        return Err(GpuError::Device("the GPU's copy of the layers is not laid out for this call".into()));
+    }
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    // Each member's slots fill whole workgroups.
+    let padded: Vec<u32> =
+        members.iter().map(|m| (m.slots.len() as u32).next_multiple_of(WORKGROUP)).collect();
+    let slots: u64 = padded.iter().map(|&n| u64::from(n)).sum();
+    if 16 * (u64::from(cells) + 1) > limit || BYTES_PER_SLOT as u64 * slots > limit {
+        return Err(GpuError::TooLarge(format!(
+            "{cells} cells or {slots} particle slots in one call (one binding holds at most {limit} bytes)"
+        )));
+    }
+    let laid = lay_out(members, &padded, cells);
+    let erodes = members.iter().any(|m| m.scene.erodes);
+    let bind = upload(gpu, kernels, b, (&laid, members), (cells, erodes), &epochs)?;
+    let counter_bytes = 4 * laid.counters.len() as u64;
+    let particle_bytes = (BYTES_PER_SLOT * laid.particles.len()) as u64;
+    let readback = grow(&gpu.device, &mut b.readback, particle_bytes + counter_bytes, READBACK);
+    let uploaded = Instant::now();
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    record(
+        &mut encoder,
+        kernels,
+        &bind,
+        (params_stride(gpu), epochs.len()),
+        (laid.particles.len() as u32, cells),
+    );
+    encoder.copy_buffer_to_buffer(some(&b.particles)?, 0, &readback, 0, particle_bytes);
+    encoder.copy_buffer_to_buffer(some(&b.counters)?, 0, &readback, particle_bytes, counter_bytes);
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read(gpu, &readback, particle_bytes + counter_bytes)?;
+    let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..particle_bytes as usize]);
+    let words: &[u32] = bytemuck::cast_slice(&bytes[particle_bytes as usize..]);
+    let flew = Instant::now();
+    let count = words[0];
+    let listed: Vec<[u32; 4]> = if count == 0 {
+        Vec::new()
+    } else {
+        let source = some(&b.listed)?.clone();
+        bytemuck::cast_slice(&copy_out(gpu, b, &source, 0, 16 * u64::from(count))?).to_vec()
+    };
+    let wear = if erodes { listed_wear(gpu, b, cells, count)? } else { Vec::new() };
+    let raw = split(members, &laid.places, (flown, words), (&listed, &wear));
+    let timing = Timing {
+        upload: (uploaded - start).as_secs_f64(),
+        kernels: (flew - uploaded).as_secs_f64(),
+        cells: flew.elapsed().as_secs_f64(),
+    };
+    Ok((raw, timing))
+}
+
+/// Uploads a dispatch laid out as `laid` (its members' layers into their regions of the second
+/// half of the layers' buffer, which `restore` copies into the first), sizes the cells' storage
+/// for `cells` cells (and their wear, where a target `erodes`), writes each epoch's parameters,
+/// and binds it all.
+fn upload(
+    gpu: &Gpu,
+    kernels: &Kernels,
+    b: &mut Buffers,
+    (laid, members): (&LaidOut, &[MemberCall]),
+    (cells, erodes): (u32, bool),
+    epochs: &[(u64, u64)],
+) -> Result<wgpu::BindGroup, GpuError> {
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+    let particles = grow(device, &mut b.particles, (BYTES_PER_SLOT * laid.particles.len()) as u64, storage);
+    queue.write_buffer(&particles, 0, bytemuck::cast_slice(&laid.particles));
+    let scene = grow(device, &mut b.scene, 4 * laid.words.len() as u64, storage);
+    queue.write_buffer(&scene, 0, bytemuck::cast_slice(&laid.words));
+    let half = u64::from(cells) + 1;
+    let layers = grow(device, &mut b.thickness, 8 * half, storage);
+    b.layer_cells = Some(cells);
+    for m in members {
+        let at = half + u64::from(m.cell);
+        match &m.layers {
+            Layers::Whole(all) => queue.write_buffer(&layers, 4 * at, bytemuck::cast_slice(all)),
+            Layers::Spans(spans) => {
+                for (first, span) in spans {
+                    queue.write_buffer(&layers, 4 * (at + u64::from(*first)), bytemuck::cast_slice(span));
+                }
+            }
+        }
+    }
+    let counters = grow(device, &mut b.counters, 4 * laid.counters.len() as u64, storage);
+    queue.write_buffer(&counters, 0, bytemuck::cast_slice(&laid.counters));
+    let plan = grow(device, &mut b.plan, 4 * laid.plan.len() as u64, storage);
+    queue.write_buffer(&plan, 0, bytemuck::cast_slice(&laid.plan));
+    // New cell counters start at zero; `gather` leaves them so.
+    grow(device, &mut b.cells, 16 * half, storage);
+    grow(device, &mut b.listed, 16 * half, storage);
+    // Where a target erodes: the cells' wear counters, then the listed cells' copies.
+    grow(device, &mut b.wear, if erodes { 32 * half } else { 16 }, storage);
+    let sizes = [members.len() as u32, laid.targets, cells, u32::from(erodes)];
+    let stride = params_stride(gpu) as usize;
+    let mut bytes = vec![0u8; stride * epochs.len()];
+    for (k, &range) in epochs.iter().enumerate() {
+        let p = pack::params(range, laid.particles.len() as u32, sizes);
+        bytes[k * stride..k * stride + PARAMS_BYTES.get() as usize].copy_from_slice(bytemuck::bytes_of(&p));
+    }
+    let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("params"),
+        contents: &bytes,
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    bind_group(gpu, kernels, b, &params)
+}
+
+/// Records the kernels of a dispatch of `epochs` epochs (their parameters `stride` bytes
+/// apart) over `slots` particle slots and `cells` cells.
+fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    kernels: &Kernels,
+    bind: &wgpu::BindGroup,
+    (stride, epochs): (u64, usize),
+    (slots, cells): (u32, u32),
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+    let grid = groups(cells + 1);
+    pass.set_bind_group(0, bind, &[0]);
+    pass.set_pipeline(&kernels.restore);
+    pass.dispatch_workgroups(grid.0, grid.1, 1);
+    for e in 0..epochs {
+        pass.set_bind_group(0, bind, &[(e as u64 * stride) as u32]);
+        pass.set_pipeline(&kernels.fly);
+        let (x, y) = groups(slots);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&kernels.census);
+        pass.dispatch_workgroups(1, 1, 1);
+        // After every epoch: between two, for the next one; after the last, for
+        // `read_settled_layers` (the next call starts from the layers it is handed).
+        pass.set_pipeline(&kernels.settle);
+        pass.dispatch_workgroups(grid.0, grid.1, 1);
+        pass.set_pipeline(&kernels.census);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+    pass.set_pipeline(&kernels.gather);
+    pass.dispatch_workgroups(grid.0, grid.1, 1);
+}
+
+/// Each member's part of what a dispatch read back: its particles (`flown`), its counter block
+/// (of `words`), and the cells it listed (of `listed`, with their `wear`), counted over its
+/// own grids.
+fn split(
+    members: &[MemberCall],
+    places: &[Place],
+    (flown, words): (&[GpuParticle], &[u32]),
+    (listed, wear): (&[[u32; 4]], &[[u32; 4]]),
+) -> Vec<Raw> {
+    // The listed cells in cell order: each member's are one run of them.
+    let mut order: Vec<usize> = (0..listed.len()).collect();
+    order.sort_unstable_by_key(|&k| listed[k][0]);
+    let from = |cell: u32| order.partition_point(|&k| listed[k][0] < cell);
+    members
+        .iter()
+        .zip(places)
+        .map(|(m, place)| {
+            let (first, end) = (m.cell, m.cell + m.scene.cells);
+            let own = &order[from(first)..from(end)];
+            let (slot, counter) = (place.slot as usize, place.counters as usize);
+            Raw {
+                slots: flown[slot..slot + m.slots.len()].to_vec(),
+                counters: words[counter..counter + m.counters.len()].to_vec(),
+                listed: own
+                    .iter()
+                    .map(|&k| [listed[k][0] - first, listed[k][1], listed[k][2], listed[k][3]])
+                    .collect(),
+                wear: own.iter().filter_map(|&k| wear.get(k).copied()).collect(),
+            }
+        })
+        .collect()
+}
+
+/// A dispatch's words, particles, counters and plan, with where each member lies.
+struct LaidOut {
+    words: Vec<u32>,
+    particles: Vec<GpuParticle>,
+    counters: Vec<u32>,
+    plan: Vec<u32>,
+    places: Vec<Place>,
+    /// Targets of all members.
+    targets: u32,
+}
+
+/// Lays `members` out one after the other (their slots padded to `padded`): the members'
+/// words, then the table of all their targets, then each member's own words; the global
+/// counters, then each member's block; the plan (no cell listed, each target's band).
+fn lay_out(members: &[MemberCall], padded: &[u32], cells: u32) -> LaidOut {
+    let targets: usize = members.iter().map(|m| m.scene.first_cells.len()).sum();
+    let table = MEMBER_WORDS * members.len();
+    let mut words = vec![0u32; table + TABLE_WORDS * targets];
+    let mut particles = Vec::new();
+    let mut counters = vec![0u32; GLOBAL_COUNTER_WORDS];
+    let mut plan = vec![0u32];
+    let mut places = Vec::with_capacity(members.len());
+    for (m, (member, &pad)) in members.iter().zip(padded).enumerate() {
+        let scene = &member.scene;
+        let place = Place {
+            words: words.len() as u32,
+            slot: particles.len() as u32,
+            target: (plan.len() - 1) as u32,
+            cell: member.cell,
+            counters: counters.len() as u32,
+        };
+        for (t, &first) in scene.first_cells.iter().enumerate() {
+            let row = table + TABLE_WORDS * (place.target as usize + t);
+            words[row] = member.cell + first;
+            words[row + 1] = pack::quantum_thickness(scene, t);
+            words[row + 2] = place.counters + (TALLY_WORDS + TARGET_COUNTER_WORDS * t + 3) as u32;
+            plan.push(pack::band(scene, t));
+        }
+        let mut head = member.words;
+        pack::place_member(&mut head, scene, place);
+        words[MEMBER_WORDS * m..MEMBER_WORDS * (m + 1)].copy_from_slice(&head);
+        words.extend_from_slice(&scene.words);
+        particles.extend_from_slice(&member.slots);
+        particles.resize((place.slot + pad) as usize, GpuParticle::default());
+        counters.extend_from_slice(&member.counters);
+        places.push(place);
+    }
+    debug_assert!(members.iter().all(|m| m.cell + m.scene.cells <= cells));
+    LaidOut { words, particles, counters, plan, places, targets: targets as u32 }
+}
+
+fn bind_group(
+    gpu: &Gpu,
+    kernels: &Kernels,
+    b: &Buffers,
+    params: &wgpu::Buffer,
+) -> Result<wgpu::BindGroup, GpuError> {
+    let buffers = [
+        params,
+        some(&b.particles)?,
+        some(&b.scene)?,
+        some(&b.thickness)?,
+        some(&b.counters)?,
+        some(&b.cells)?,
+        some(&b.listed)?,
+        some(&b.plan)?,
+        some(&b.wear)?,
+    ];
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .enumerate()
+        .map(|(k, buffer)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            // The parameters: one epoch's, at the offset each dispatch gives.
+            resource: if k == 0 {
+                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer,
+                    offset: 0,
+                    size: Some(PARAMS_BYTES),
+                })
+            } else {
+                buffer.as_entire_binding()
+            },
+        })
+        .collect();
+    Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &kernels.layout,
+        entries: &entries,
+    }))
+}
+
+/// Bytes between two epochs' parameters: the adapter's alignment of uniform offsets.
+fn params_stride(gpu: &Gpu) -> u64 {
+    let align = u64::from(gpu.device.limits().min_uniform_buffer_offset_alignment);
+    PARAMS_BYTES.get().next_multiple_of(align.max(1))
+}
+
+/// The wear of the `count` cells listed (after the `cells` cells' counters), each as coating
+/// (low, high) and substrate (low, high), WEAR_QUANTUMs; the copies are cleared once read, so
+/// that a later call's counters, which may lie there, start at zero.
+fn listed_wear(gpu: &Gpu, b: &mut Buffers, cells: u32, count: u32) -> Result<Vec<[u32; 4]>, GpuError> {
+    if count == 0 {
+        return Ok(Vec::new());
+    }
+    let wear = some(&b.wear)?.clone();
+    let (at, bytes) = (16 * (u64::from(cells) + 1), 16 * u64::from(count));
+    let data = copy_out(gpu, b, &wear, at, bytes)?;
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    encoder.clear_buffer(&wear, at, Some(bytes));
+    gpu.queue.submit([encoder.finish()]);
+    Ok(bytemuck::cast_slice::<u8, [u32; 4]>(&data).to_vec())
+}
+
+impl Buffers {
+    /// One half of the layers' buffer, m: as the last dispatch found them (`found`), or left
+    /// them.
+    pub fn read_thickness(&mut self, gpu: &Gpu, found: bool) -> Result<Vec<f32>, GpuError> {
+        let layer = some(&self.thickness)?.clone();
+        let half = 4 * (u64::from(self.layer_cells.unwrap_or(0)) + 1);
+        let at = if found { half } else { 0 };
+        Ok(bytemuck::cast_slice(&copy_out(gpu, self, &layer, at, half)?).to_vec())
+    }
+}
+
+/// `bytes` of `source` from byte `at`, copied through the read-back buffer.
+fn copy_out(
+    gpu: &Gpu,
+    b: &mut Buffers,
+    source: &wgpu::Buffer,
+    at: u64,
+    bytes: u64,
+) -> Result<Vec<u8>, GpuError> {
+    let readback = grow(&gpu.device, &mut b.readback, bytes, READBACK);
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    encoder.copy_buffer_to_buffer(source, at, &readback, 0, bytes);
+    gpu.queue.submit([encoder.finish()]);
+    read(gpu, &readback, bytes)
+}
+
+/// Waits for the queue and copies the first `bytes` of `readback` out.
+fn read(gpu: &Gpu, readback: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuError> {
+    let slice = readback.slice(..bytes);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    let err = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
+    gpu.device
+        .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(Duration::from_secs(600)) })
+        .map_err(|e| err(&e))?;
+    rx.recv().map_err(|e| err(&e))?.map_err(|e| err(&e))?;
+    let out = slice.get_mapped_range().map_err(|e| GpuError::Readback(format!("{e:?}")))?.to_vec();
+    readback.unmap();
+    Ok(out)
+}
+
+/// Bytes of one epoch's parameters.
+pub(crate) const PARAMS_BYTES: wgpu::BufferSize =
+    match wgpu::BufferSize::new(std::mem::size_of::<pack::Params>() as u64) {
+        Some(n) => n,
+        None => panic!("the parameters take bytes"),
+    };
+
+/// Usage of the readback buffer.
+const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
+
+/// `slot`'s buffer, replaced by a larger one (a power of two of bytes) if it holds fewer than
+/// `bytes`.
+fn grow(
+    device: &wgpu::Device,
+    slot: &mut Option<wgpu::Buffer>,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let bytes = bytes.max(16).next_multiple_of(16);
+    match slot {
+        Some(b) if b.size() >= bytes => b.clone(),
+        _ => {
+            let b = device.create_buffer(&wgpu::BufferDescriptor {
+                label: None,
+                size: bytes.next_power_of_two(),
+                usage,
+                mapped_at_creation: false,
+            });
+            *slot = Some(b.clone());
+            b
+        }
+    }
+}
+
+fn some(b: &Option<wgpu::Buffer>) -> Result<&wgpu::Buffer, GpuError> {
+    b.as_ref().ok_or_else(|| GpuError::Device("a buffer was not allocated".into()))
+}
+
+/// Workgroups (across, rows) covering `n` invocations.
+fn groups(n: u32) -> (u32, u32) {
+    let g = n.div_ceil(WORKGROUP).max(1);
+    (g.min(ROW_GROUPS), g.div_ceil(ROW_GROUPS))
+}
