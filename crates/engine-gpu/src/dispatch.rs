@@ -105,6 +105,7 @@ pub(crate) struct Buffers {
 }
 
 /// How a member's layers reach the GPU's copy, as the call finds them.
+#[derive(Debug)]
 pub(crate) enum Layers {
     /// Every cell of its grids (the copy holds nothing known of them).
     Whole(Vec<f32>),
@@ -114,6 +115,7 @@ pub(crate) enum Layers {
 }
 
 /// One member's call laid out for the kernels.
+#[derive(Debug)]
 pub(crate) struct MemberCall {
     /// Its own words.
     pub scene: pack::SceneWords,
@@ -132,6 +134,7 @@ pub(crate) struct MemberCall {
 }
 
 /// What a dispatch read back for one member.
+#[derive(Debug)]
 pub(crate) struct Raw {
     /// Its particles as the call leaves them.
     pub slots: Vec<GpuParticle>,

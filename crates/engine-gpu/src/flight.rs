@@ -131,11 +131,17 @@ impl GpuFlight {
         self.profile.lock().map(|mut p| std::mem::take(&mut *p)).unwrap_or_default()
     }
 
-    /// Adds to the profile.
-    pub(crate) fn note(&self, epochs: usize, particles: usize, timing: Timing, report: f64) {
+    /// Adds a dispatch to the profile.
+    pub(crate) fn note(&self, epochs: usize, particles: usize, timing: Timing) {
         if let Ok(mut p) = self.profile.lock() {
             p.add(epochs, particles, timing);
-            p.report += report;
+        }
+    }
+
+    /// Adds the time a report took (s) to the profile.
+    pub(crate) fn note_report(&self, seconds: f64) {
+        if let Ok(mut p) = self.profile.lock() {
+            p.report += seconds;
         }
     }
 
@@ -166,7 +172,8 @@ impl GpuFlight {
         drop(s);
         let reported = Instant::now();
         let out = report(job, &call.scene, &raw[0]);
-        self.note(call.epochs.len(), call.slots.len(), timing, reported.elapsed().as_secs_f64());
+        self.note(call.epochs.len(), call.slots.len(), timing);
+        self.note_report(reported.elapsed().as_secs_f64());
         Ok(out)
     }
 }

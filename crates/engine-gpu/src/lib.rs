@@ -49,6 +49,7 @@
 //! openings, run), mesh and shell obstacles, shapes, rebound laws and erosion laws defined outside
 //! the engine, the gun's air and an impact log. Calls whose impacts an observer gathers as events fly on the CPU.
 
+mod batch;
 mod device;
 mod dispatch;
 mod flight;
@@ -56,6 +57,7 @@ mod pack;
 mod report;
 mod scope;
 
+pub use batch::{BatchMember, GpuBatch, run_together};
 pub use device::{EPOCHS_PER_CALL, Gpu, GpuOptions};
 pub use flight::{GpuFlight, Profile};
 pub use pack::BYTES_PER_SLOT;

@@ -116,6 +116,7 @@ impl GpuParticle {
 /// The words of a job's scene, and where each table starts: the member's own words, whose
 /// offsets (the tables', and those in target words) count from their start, wherever a
 /// dispatch puts them.
+#[derive(Debug)]
 pub struct SceneWords {
     /// Every table, one after the other: the impact models first.
     pub words: Vec<u32>,

@@ -1,0 +1,267 @@
+//! [`GpuBatch`]: the calls of many simulations (the variants of a study: other seeds, emitter
+//! and process parameters, nozzle paths) flown together, one dispatch covering every member's
+//! particles, so that a GPU too large for one short run is filled by many.
+//!
+//! Each member is a flight stage of its own ([`BatchMember`]) set on its simulation, whose
+//! thread advances it as usual. A member's call waits until every member still flying has
+//! handed in its call; the last to arrive flies them all (members whose calls span other
+//! epochs in dispatches of their own) and wakes the others. A member leaves when its run ends
+//! ([`BatchMember::leave`], also on drop), so the others do not wait for it. Each member keeps
+//! its own region of the layers' buffer, so only the spans of its layers that changed are
+//! uploaded. A member's results do not depend on the others: each invocation reads only its own
+//! member's words, and each member books into its own counters, so a run gives the same bits
+//! in a batch as alone. [`run_together`] runs a set of simulations so.
+
+use crate::GpuError;
+use crate::dispatch::{self, Buffers, Layers, MemberCall, Raw};
+use crate::flight::{self, GpuFlight};
+use crate::pack::{self, WORKGROUP};
+use crate::report::report;
+use spraysim_engine::Simulation;
+use spraysim_engine::deposit::{DepositSurface, Surface};
+use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
+use std::time::Instant;
+
+/// Simulations whose calls fly in shared dispatches (see the module's docs).
+#[derive(Debug)]
+pub struct GpuBatch {
+    flight: Arc<GpuFlight>,
+    /// Each member's first cell in the layers' buffer.
+    regions: Vec<u32>,
+    /// Cells of all members' grids.
+    cells: u32,
+    state: Mutex<State>,
+    /// Signalled when a dispatch has answered the calls waiting for it.
+    answered: Condvar,
+}
+
+/// What the members share, under the batch's lock.
+#[derive(Debug)]
+struct State {
+    buffers: Buffers,
+    /// Members still flying.
+    active: usize,
+    /// Calls handed in for the next dispatch, each with its member.
+    waiting: Vec<(usize, MemberCall)>,
+    /// Per member, what its last dispatch gave it, until it takes it.
+    answers: Vec<Option<Answer>>,
+}
+
+/// What a dispatch gives a member: what it read back, with the member's call; or why it failed.
+type Answer = Result<(Raw, MemberCall), String>;
+
+/// One simulation's flight stage in a [`GpuBatch`].
+#[derive(Debug)]
+pub struct BatchMember {
+    batch: Arc<GpuBatch>,
+    id: usize,
+    /// The identity of each of its targets' layers, with its first cell, as the batch's copy
+    /// holds them (empty: nothing known).
+    mirror: Mutex<Vec<(u64, u32)>>,
+    left: AtomicBool,
+}
+
+impl GpuBatch {
+    /// A batch of `sims` on `flight`'s device: a member for each, to set as its flight stage.
+    /// Every member must fly (its simulation advanced) or leave: the others wait for it.
+    pub fn members(flight: Arc<GpuFlight>, sims: &[&Simulation]) -> Result<Vec<Arc<BatchMember>>, GpuError> {
+        let mut regions = Vec::with_capacity(sims.len());
+        let mut cells = 0u32;
+        for sim in sims {
+            regions.push(cells);
+            let own: usize = sim
+                .targets()
+                .iter()
+                .filter(|t| !matches!(t.surface, Surface::Mesh(_)))
+                .map(|t| t.surface.thickness().len())
+                .sum();
+            cells = u32::try_from(own)
+                .ok()
+                .and_then(|n| cells.checked_add(n))
+                .ok_or_else(|| GpuError::TooLarge("the cells of a batch's grids".into()))?;
+        }
+        let state = State {
+            buffers: Buffers::default(),
+            active: sims.len(),
+            waiting: Vec::new(),
+            answers: (0..sims.len()).map(|_| None).collect(),
+        };
+        let batch =
+            Arc::new(GpuBatch { flight, regions, cells, state: Mutex::new(state), answered: Condvar::new() });
+        Ok((0..sims.len())
+            .map(|id| {
+                Arc::new(BatchMember {
+                    batch: batch.clone(),
+                    id,
+                    mirror: Mutex::new(Vec::new()),
+                    left: AtomicBool::new(false),
+                })
+            })
+            .collect())
+    }
+
+    fn lock(&self) -> MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Hands in member `id`'s call and waits for its answer; the last member to arrive flies
+    /// every call waiting.
+    fn submit(&self, id: usize, call: MemberCall) -> Answer {
+        let mut state = self.lock();
+        state.waiting.push((id, call));
+        if state.waiting.len() >= state.active {
+            self.fly_waiting(&mut state);
+        }
+        loop {
+            if let Some(answer) = state.answers[id].take() {
+                return answer;
+            }
+            state = self.answered.wait(state).unwrap_or_else(PoisonError::into_inner);
+        }
+    }
+
+    /// Flies the calls waiting, in member order: those of the same epochs together, in as few
+    /// dispatches as one binding's particle slots allow; answers each and wakes the members.
+    fn fly_waiting(&self, state: &mut State) {
+        let mut waiting = std::mem::take(&mut state.waiting);
+        waiting.sort_by_key(|(id, _)| *id);
+        let room = self.flight.slots_per_dispatch();
+        let mut groups: Vec<(usize, Vec<(usize, MemberCall)>)> = Vec::new();
+        for (id, call) in waiting {
+            let slots = call.slots.len().next_multiple_of(WORKGROUP as usize);
+            let fits = |g: &&mut (usize, Vec<(usize, MemberCall)>)| {
+                g.1[0].1.epochs == call.epochs && g.0 + slots <= room
+            };
+            match groups.iter_mut().find(fits) {
+                Some(group) => {
+                    group.0 += slots;
+                    group.1.push((id, call));
+                }
+                None => groups.push((slots, vec![(id, call)])),
+            }
+        }
+        for (_, group) in groups {
+            let (ids, calls): (Vec<usize>, Vec<MemberCall>) = group.into_iter().unzip();
+            let (flight, buffers) = (&self.flight, &mut state.buffers);
+            match dispatch::dispatch(&flight.gpu, &flight.kernels, buffers, self.cells, &calls) {
+                Ok((raw, timing)) => {
+                    let particles = calls.iter().map(|c| c.slots.len()).sum();
+                    flight.note(calls[0].epochs.len(), particles, timing);
+                    for ((id, raw), call) in ids.into_iter().zip(raw).zip(calls) {
+                        state.answers[id] = Some(Ok((raw, call)));
+                    }
+                }
+                Err(e) => {
+                    for id in ids {
+                        state.answers[id] = Some(Err(e.to_string()));
+                    }
+                }
+            }
+        }
+        self.answered.notify_all();
+    }
+}
+
+impl BatchMember {
+    /// Leaves the batch (once; also on drop): the others no longer wait for this member.
+    pub fn leave(&self) {
+        if self.left.swap(true, Ordering::SeqCst) {
+            return;
+        }
+        let mut state = self.batch.lock();
+        state.active = state.active.saturating_sub(1);
+        if !state.waiting.is_empty() && state.waiting.len() >= state.active {
+            self.batch.fly_waiting(&mut state);
+        }
+    }
+
+    /// Runs `job` in the batch's next dispatch.
+    fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
+        if self.left.load(Ordering::SeqCst) {
+            return Err(GpuError::Device("a call after its member left the batch".into()));
+        }
+        let (mut call, layout) = flight::lay_out(job)?;
+        call.cell = self.batch.regions[self.id];
+        let mut mirror = self.mirror.lock().unwrap_or_else(PoisonError::into_inner);
+        // Only this member writes its region of the batch's layers.
+        let current = *mirror == layout && job.revised.iter().all(Option::is_some);
+        call.layers =
+            if current { flight::spans(job, &call.scene) } else { Layers::Whole(pack::thicknesses(job)) };
+        // Forgotten until the call succeeds, as for a single run.
+        mirror.clear();
+        let (raw, call) = self.batch.submit(self.id, call).map_err(GpuError::Device)?;
+        *mirror = layout;
+        drop(mirror);
+        let reported = Instant::now();
+        let out = report(job, &call.scene, &raw);
+        self.batch.flight.note_report(reported.elapsed().as_secs_f64());
+        Ok(out)
+    }
+}
+
+impl Drop for BatchMember {
+    fn drop(&mut self) {
+        self.leave();
+    }
+}
+
+impl FlightStage for BatchMember {
+    fn fly(&self, job: &FlightJob<'_>) -> Result<FlightReport, String> {
+        self.run(job).map_err(|e| e.to_string())
+    }
+
+    fn describe(&self) -> String {
+        format!("{}, in a batch of {}", self.batch.flight.describe(), self.batch.regions.len())
+    }
+
+    fn epochs_per_call(&self) -> u64 {
+        self.batch.flight.max_epochs
+    }
+
+    fn particles_per_call(&self) -> usize {
+        // A share of one dispatch's slots, less a workgroup of padding.
+        (self.batch.flight.slots_per_dispatch() / self.batch.regions.len().max(1))
+            .saturating_sub(WORKGROUP as usize)
+            .max(1)
+    }
+
+    fn profile(&self) -> Option<String> {
+        self.batch.flight.profile()
+    }
+}
+
+/// Runs `sims` to their ends together, each on a thread of its own, their calls flown in shared
+/// dispatches on `flight`, and returns `done(k, sim)` of each in their order (called on its
+/// thread as it finishes). Each simulation stops early, after the call under way, once `stop`
+/// is set. Its results equal its run alone.
+pub fn run_together<T: Send>(
+    flight: &Arc<GpuFlight>,
+    mut sims: Vec<Simulation>,
+    stop: &AtomicBool,
+    done: impl Fn(usize, Simulation) -> T + Sync,
+) -> Result<Vec<T>, GpuError> {
+    let members = GpuBatch::members(flight.clone(), &sims.iter().collect::<Vec<_>>())?;
+    for (sim, member) in sims.iter_mut().zip(&members) {
+        sim.set_flight_stage(Some(member.clone() as Arc<dyn FlightStage>));
+    }
+    let done = &done;
+    Ok(std::thread::scope(|scope| {
+        let handles: Vec<_> = sims
+            .into_iter()
+            .zip(members)
+            .enumerate()
+            .map(|(k, (mut sim, member))| {
+                scope.spawn(move || {
+                    while !sim.is_finished() && !stop.load(Ordering::Relaxed) {
+                        sim.advance_call(sim.steps_to_call_end());
+                    }
+                    member.leave();
+                    done(k, sim)
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
+    }))
+}

@@ -1,0 +1,92 @@
+//! Batches: simulations whose calls fly together in shared dispatches give, each, the bits of
+//! its run alone, whatever the others are (other scenes, processes and lengths; some eroding,
+//! whose calls span one epoch, beside others of many), and a member whose run ends first does
+//! not hold the others up.
+
+mod common;
+
+use spraysim_engine::Simulation;
+use spraysim_engine::deposit::DepositSurface;
+use spraysim_gpu::run_together;
+use spraysim_scenario::Scenario;
+use spraysim_scenario::scenes::{NOZZLE_AT_WALL, failing_layer, floor, scenario, wall};
+use std::sync::atomic::AtomicBool;
+
+/// What a run leaves, to the bit: its layers, metrics and particles in flight.
+fn outcome(sim: &Simulation) -> (Vec<Vec<u64>>, String, String) {
+    let layers =
+        sim.targets().iter().map(|t| t.surface.thickness().iter().map(|x| x.to_bits()).collect()).collect();
+    (layers, format!("{:?}", sim.metrics()), format!("{:?}", sim.swarm().particles))
+}
+
+/// Shotcrete onto the wall for `duration` s with `seed`.
+fn shotcrete(duration: f64, seed: u64) -> Scenario {
+    let text = format!(
+        "[simulation]\nduration = {duration:?}\nseed = {seed}\n[emitter]\nspawn_rate = 20000.0\n{NOZZLE_AT_WALL}{}{}",
+        wall().resolution(128, 128),
+        floor().resolution(60, 45),
+    );
+    scenario(&text, "shotcrete")
+}
+
+#[test]
+fn runs_in_a_batch_give_the_bits_of_their_runs_alone() {
+    // Its own stage: its profile counts this test's dispatches alone.
+    let Some(gpu) = common::own_gpu().map(std::sync::Arc::new) else { return };
+    let blasting = {
+        let text = format!(
+            "[simulation]\nduration = 0.2\nseed = 5\n[process]\npreset = \"blasting\"\n[emitter]\nspawn_rate = 20000.0\n{NOZZLE_AT_WALL}{}",
+            wall().size(0.6, 0.6).resolution(60, 60).coating(5e-6),
+        );
+        scenario(&text, "blasting")
+    };
+    let arch = scenario(
+        "[simulation]\nduration = 0.2\nseed = 6\n[emitter]\nspawn_rate = 20000.0\n\
+         [nozzle]\nposition = [0.0, 0.0, 0.2]\naxis = [0.0, 0.0, 1.0]\n\
+         [[target]]\nname = \"arch\"\nshape = \"cylinder\"\ncenter = [0.0, 0.0, 0.0]\naxis = [0.0, 1.0, 0.0]\n\
+         radius = 1.5\nlength = 2.0\nangles = [45.0, 135.0]\nresolution = [118, 100]\n",
+        "arch",
+    );
+    // Shotcrete of two lengths (the short one leaves first), grit on a coat (its calls span one
+    // epoch each, so it flies in dispatches of its own), a lining, and a weak layer whose
+    // failures release material that flies again.
+    let scenarios = [shotcrete(0.3, 3), shotcrete(0.1, 4), blasting, arch, failing_layer(0.4, 7)];
+    gpu.take_profile();
+    let (alone, calls): (Vec<_>, Vec<u64>) =
+        scenarios.iter().map(|s| (outcome(&common::run(s, Some(&gpu))), gpu.take_profile().calls)).unzip();
+    let sims: Vec<Simulation> = scenarios.iter().map(|s| s.build().expect("builds")).collect();
+    let stop = AtomicBool::new(false);
+    let together = run_together(&gpu, sims, &stop, |_, sim| {
+        assert_eq!(sim.flight_stage_error(), None, "a member's call fell back to the CPU");
+        outcome(&sim)
+    })
+    .expect("a batch");
+    // The two shotcrete runs and the lining end their calls at the same steps (their layer
+    // stages' intervals): theirs share dispatches, as the short run's share the long one's.
+    let dispatches = gpu.take_profile().calls;
+    let shared = calls[1] + calls[3];
+    assert!(
+        shared > 0 && dispatches <= calls.iter().sum::<u64>() - shared,
+        "{dispatches} dispatches for {calls:?}"
+    );
+    for (k, (a, b)) in alone.iter().zip(&together).enumerate() {
+        assert!(a.0 == b.0, "scenario {k}: the layers differ");
+        assert_eq!(a.1, b.1, "scenario {k}: the metrics differ");
+        assert!(a.2 == b.2, "scenario {k}: the particles in flight differ");
+    }
+    assert!(together[4].1.contains("released"), "the weak layer's metrics");
+}
+
+#[test]
+fn a_batch_stops_when_asked_and_each_member_s_run_can_go_on_alone() {
+    let Some(gpu) = common::gpu() else { return };
+    let sims: Vec<Simulation> = (0..3).map(|k| shotcrete(0.3, 10 + k).build().expect("builds")).collect();
+    let stop = AtomicBool::new(true);
+    let stopped = run_together(&gpu, sims, &stop, |_, sim| sim).expect("a batch");
+    assert!(stopped.iter().all(|s| s.steps_done() == 0), "stopped before their first call");
+    for mut sim in stopped {
+        sim.set_flight_stage(Some(gpu.clone()));
+        sim.run(|_| {});
+        assert!(sim.is_finished() && sim.flight_stage_error().is_none());
+    }
+}
