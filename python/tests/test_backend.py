@@ -63,7 +63,7 @@ def test_the_gpu_agrees_with_the_cpu_within_binomial_statistics(short, gpu_or_sk
 
 
 def test_run_many_on_the_gpu_repeats_single_runs_to_the_bit(short, gpu_or_skip):
-    # Three runs sharing one GPU, their calls interleaved, each equal to itself run alone.
+    # Three runs in one batch, their calls flown together, each equal to itself run alone.
     scenarios = [short.set("simulation.seed", s) for s in (3, 4, 5)]
     alone = []
     for scenario in scenarios:

@@ -8,7 +8,8 @@
 //! epochs in dispatches of their own) and wakes the others. A member leaves when its run ends
 //! ([`BatchMember::leave`], also on drop), so the others do not wait for it. Each member keeps
 //! its own region of the layers' buffer, so only the spans of its layers that changed are
-//! uploaded. A member's results do not depend on the others: each invocation reads only its own
+//! uploaded; a batch's grids must fit one binding of cells, and [`run_together`] splits larger
+//! sets into batches that run side by side. A member's results do not depend on the others: each invocation reads only its own
 //! member's words, and each member books into its own counters, so a run gives the same bits
 //! in a batch as alone. [`run_together`] runs a set of simulations so.
 
@@ -71,13 +72,7 @@ impl GpuBatch {
         let mut cells = 0u32;
         for sim in sims {
             regions.push(cells);
-            let own: usize = sim
-                .targets()
-                .iter()
-                .filter(|t| !matches!(t.surface, Surface::Mesh(_)))
-                .map(|t| t.surface.thickness().len())
-                .sum();
-            cells = u32::try_from(own)
+            cells = u32::try_from(grid_cells(sim))
                 .ok()
                 .and_then(|n| cells.checked_add(n))
                 .ok_or_else(|| GpuError::TooLarge("the cells of a batch's grids".into()))?;
@@ -232,17 +227,48 @@ impl FlightStage for BatchMember {
     }
 }
 
+/// Cells of `sim`'s grids (the GPU's share of its layers).
+fn grid_cells(sim: &Simulation) -> u64 {
+    let cells: usize = sim
+        .targets()
+        .iter()
+        .filter(|t| !matches!(t.surface, Surface::Mesh(_)))
+        .map(|t| t.surface.thickness().len())
+        .sum();
+    cells as u64
+}
+
 /// Runs `sims` to their ends together, each on a thread of its own, their calls flown in shared
 /// dispatches on `flight`, and returns `done(k, sim)` of each in their order (called on its
-/// thread as it finishes). Each simulation stops early, after the call under way, once `stop`
-/// is set. Its results equal its run alone.
+/// thread as it finishes). The simulations are split, in order, into batches whose grids fit
+/// one binding of cells (16 bytes a cell, 32 where a target erodes); the batches run side by
+/// side, each a dispatch per
+/// round of calls. Each simulation stops early, after the call under way, once `stop` is set.
+/// Its results equal its run alone.
 pub fn run_together<T: Send>(
     flight: &Arc<GpuFlight>,
     mut sims: Vec<Simulation>,
     stop: &AtomicBool,
     done: impl Fn(usize, Simulation) -> T + Sync,
 ) -> Result<Vec<T>, GpuError> {
-    let members = GpuBatch::members(flight.clone(), &sims.iter().collect::<Vec<_>>())?;
+    let limit = flight.gpu.device.limits().max_storage_buffer_binding_size;
+    // Bytes a cell takes in the largest binding: its counters, or its wear where a target erodes.
+    let per_cell =
+        |sim: &Simulation| if sim.config().targets.iter().any(|t| t.erosion.is_some()) { 32 } else { 16 };
+    let mut members = Vec::with_capacity(sims.len());
+    let mut start = 0;
+    while start < sims.len() {
+        let (mut end, mut cells, mut widest) = (start, 0, 16);
+        while end < sims.len() {
+            let (more, wide) = (cells + grid_cells(&sims[end]), per_cell(&sims[end]).max(widest));
+            if end > start && (more + 1) * wide > limit {
+                break;
+            }
+            (cells, widest, end) = (more, wide, end + 1);
+        }
+        members.extend(GpuBatch::members(flight.clone(), &sims[start..end].iter().collect::<Vec<_>>())?);
+        start = end;
+    }
     for (sim, member) in sims.iter_mut().zip(&members) {
         sim.set_flight_stage(Some(member.clone() as Arc<dyn FlightStage>));
     }

@@ -2,7 +2,7 @@
 //! where this build has them (the `gpu` feature, `spraysim-gpu`), an adapter opens and the
 //! scenario lies in their scope. The command and the Python binding both choose here.
 
-use crate::Scenario;
+use crate::{Scenario, Simulation};
 use crate::pipeline::FlightStage;
 use crate::scenario::Backend;
 use std::sync::Arc;
@@ -72,6 +72,18 @@ fn gpu_for(scenario: &Scenario) -> Result<Arc<dyn FlightStage>, BackendError> {
 /// simulation after (calls from several take turns), or why there is none.
 #[cfg(feature = "gpu")]
 pub fn gpu() -> Result<Arc<dyn FlightStage>, BackendError> {
+    Ok(gpu_flight()?)
+}
+
+/// A build without the GPU backend has no stage.
+#[cfg(not(feature = "gpu"))]
+pub fn gpu() -> Result<Arc<dyn FlightStage>, BackendError> {
+    Err(no_gpu())
+}
+
+/// The process's GPU flight stage (see [`gpu`]), as the GPU crate's type.
+#[cfg(feature = "gpu")]
+pub fn gpu_flight() -> Result<Arc<spraysim_gpu::GpuFlight>, BackendError> {
     use std::sync::OnceLock;
     static GPU: OnceLock<Result<Arc<spraysim_gpu::GpuFlight>, String>> = OnceLock::new();
     let opened = GPU.get_or_init(|| {
@@ -79,14 +91,32 @@ pub fn gpu() -> Result<Arc<dyn FlightStage>, BackendError> {
             .map(Arc::new)
             .map_err(|e| e.to_string())
     });
-    match opened {
-        Ok(g) => Ok(g.clone()),
-        Err(e) => Err(BackendError(e.clone())),
-    }
+    opened.clone().map_err(BackendError)
 }
 
-/// A build without the GPU backend has no stage.
+/// Why a build without the GPU backend has none.
 #[cfg(not(feature = "gpu"))]
-pub fn gpu() -> Result<Arc<dyn FlightStage>, BackendError> {
-    Err(BackendError(format!("this build has no GPU backend: {BUILD_GPU}")))
+fn no_gpu() -> BackendError {
+    BackendError(format!("this build has no GPU backend: {BUILD_GPU}"))
+}
+
+/// Runs `sims` to their ends together on the process's GPU, their calls flown in shared
+/// dispatches (batches whose grids fit one binding, side by side; see
+/// `spraysim_gpu::run_together`), each on a thread of its own; each stops after the call under
+/// way once `stop` is set. Each run's results equal its run alone on the GPU.
+#[cfg(feature = "gpu")]
+pub fn run_together(
+    sims: Vec<Simulation>,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<Vec<Simulation>, BackendError> {
+    spraysim_gpu::run_together(&gpu_flight()?, sims, stop, |_, sim| sim).map_err(|e| BackendError(e.to_string()))
+}
+
+/// A build without the GPU backend cannot run simulations together on one.
+#[cfg(not(feature = "gpu"))]
+pub fn run_together(
+    _sims: Vec<Simulation>,
+    _stop: &std::sync::atomic::AtomicBool,
+) -> Result<Vec<Simulation>, BackendError> {
+    Err(no_gpu())
 }

@@ -22,6 +22,9 @@ use spraysim::deposit::DepositSurface;
 use spraysim::scenario::bytes_text;
 use spraysim::{Scenario, SetupError, Simulation, SimulationConfig};
 
+/// Most runs flown together on the GPU (see `run_many`'s `backend`).
+const GPU_BATCH: usize = 64;
+
 /// Bytes one run's metrics take as a Python dictionary, about (its `metrics.json` is a few
 /// kB; the dictionary's objects take several times that).
 const METRICS_BYTES: f64 = 32.0 * 1024.0;
@@ -45,10 +48,13 @@ const METRICS_BYTES: f64 = 32.0 * 1024.0;
 /// array laid out as `Simulation.thickness`, NaN in openings) by target name. Results equal those of running the scenarios one
 /// after the other, whatever `threads`.
 ///
-/// `backend` is what flies each run's particles, as for `Simulation`: `"cpu"`, `"gpu"` (one GPU
-/// shared by the runs, whose calls take turns on it while their other stages run in parallel)
-/// or `"auto"`; None takes each scenario's `simulation.backend`. With `"gpu"`, a scenario the
-/// GPU cannot run raises `RuntimeError` before any run starts.
+/// `backend` is what flies each run's particles, as for `Simulation`: `"cpu"`, `"gpu"` or
+/// `"auto"`; None takes each scenario's `simulation.backend`. With `"gpu"`, a scenario the GPU
+/// cannot run raises `RuntimeError` before any run starts, and the runs go in batches of up to
+/// 64 (fewer where memory needs it; `threads` does not bound them), each run on a thread of its
+/// own and the batch's calls flown together, one dispatch for all (batches whose grids outgrow
+/// one GPU binding are split and run side by side). Each run's results equal its run alone on
+/// the GPU.
 #[pyfunction]
 #[pyo3(
     signature = (scenarios, threads = Threads::PER_CORE, maps = false, backend = None),
@@ -68,16 +74,24 @@ pub fn run_many<'py>(
         .map(|(i, v)| crate::backend::stage_for(py, backend, &v.scenario, &format!("`scenarios[{i}]`")))
         .collect::<PyResult<Vec<_>>>()?;
     let pool = work::pool(threads)?;
-    let at_once = plan(&variants, work::workers(pool.as_deref()), maps)?;
+    // On the GPU, the runs of a batch fly together: as many at once as memory allows, up to
+    // GPU_BATCH.
+    let on_gpu = !stages.is_empty() && stages.iter().all(Option::is_some);
+    let at_once = plan(&variants, if on_gpu { GPU_BATCH } else { work::workers(pool.as_deref()) }, maps)?;
     let mut results: Vec<Option<Bound<'py, PyAny>>> = (0..variants.len()).map(|_| None).collect();
     let (configs, scenarios): (Vec<_>, Vec<_>) =
         variants.into_iter().zip(stages).map(|(v, stage)| ((v.config, stage), v.scenario)).unzip();
     let finish = |index: usize, sim: &Simulation| Outcome::of(sim, &scenarios[index], maps);
-    work::run_stream(py, configs, at_once, pool.as_deref(), finish, |index, outcome| {
+    let deliver = |index: usize, outcome: Result<Outcome, SetupError>| {
         let outcome = outcome.map_err(|e| built_error(index, &e))?;
         results[index] = Some(outcome.into_py(py, index, maps)?);
         Ok(())
-    })?;
+    };
+    if on_gpu {
+        work::run_batches(py, configs, at_once, finish, deliver)?;
+    } else {
+        work::run_stream(py, configs, at_once, pool.as_deref(), finish, deliver)?;
+    }
     results
         .into_iter()
         .enumerate()

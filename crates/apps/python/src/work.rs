@@ -9,11 +9,12 @@
 //! waiting for it (which costs tens of microseconds a step).
 
 use crate::args::Threads;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use spraysim::pipeline::FlightStage;
 use spraysim::{SetupError, Simulation, SimulationConfig};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -118,6 +119,57 @@ pub fn run_stream<R: Send>(
             return Ok(());
         }
     }
+}
+
+/// Runs `configs` to their ends in batches of `at_once` on the process's GPU: the simulations of
+/// a batch each on a thread of its own, their calls flown together in shared dispatches
+/// (`spraysim::backend::run_together`; each config's own stage is not used). Each finished
+/// simulation's result is made by `finish` from the index of its config, and `deliver` receives
+/// it (or why its simulation could not be built). The batch runs on a thread of its own, so
+/// that this one, attached every [`SLICE`], lets signals raise; then the batch stops after the
+/// calls under way. A simulation's result does not depend on `at_once` or the batches.
+pub fn run_batches<R: Send>(
+    py: Python<'_>,
+    configs: Vec<Job>,
+    at_once: usize,
+    finish: impl Fn(usize, &Simulation) -> R + Sync,
+    mut deliver: impl FnMut(usize, Result<R, SetupError>) -> PyResult<()>,
+) -> PyResult<()> {
+    let mut queue = configs.into_iter().enumerate().peekable();
+    while queue.peek().is_some() {
+        let (mut sims, mut indices) = (Vec::new(), Vec::new());
+        for (index, (config, _)) in queue.by_ref().take(at_once.max(1)) {
+            match Simulation::new(config) {
+                Ok(sim) => {
+                    sims.push(sim);
+                    indices.push(index);
+                }
+                Err(e) => deliver(index, Err(e))?,
+            }
+        }
+        let stop = AtomicBool::new(false);
+        let results = std::thread::scope(|scope| {
+            let (stop, finish, indices) = (&stop, &finish, &indices);
+            let batch = scope.spawn(move || {
+                spraysim::backend::run_together(sims, stop)
+                    .map(|done| done.iter().zip(indices).map(|(sim, &i)| finish(i, sim)).collect::<Vec<R>>())
+            });
+            while !batch.is_finished() {
+                py.detach(|| std::thread::sleep(SLICE));
+                if let Err(e) = py.check_signals() {
+                    stop.store(true, Ordering::Relaxed);
+                    let _ = batch.join();
+                    return Err(e);
+                }
+            }
+            let finished = batch.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+            finished.map_err(|e| PyRuntimeError::new_err(format!("backend \"gpu\": {e}")))
+        })?;
+        for (index, result) in indices.into_iter().zip(results) {
+            deliver(index, Ok(result))?;
+        }
+    }
+    Ok(())
 }
 
 /// The configs still to run, with their indices.

@@ -1,5 +1,6 @@
-//! The rows of `spraysim bench --backend gpu`: the reference scene, the 60 s raster and the
-//! short variants with their particles flown on another backend's flight stage (the GPU's),
+//! The rows of `spraysim bench --backend gpu`: the reference scene (alone, and in batches of 16
+//! and 64 run together), the 60 s raster and the short variants (one after the other, and in
+//! batches) with their particles flown on another backend's flight stage (the GPU's),
 //! beside the CPU's reference row, each with the share of its wall time spent in the stage (its
 //! uploads, kernels and read-backs) and the rest (births, booking, layers and their stages, on
 //! the CPU).
@@ -8,6 +9,7 @@ use crate::{
     BenchError, MatrixSettings, ReferenceScene, measure_median_on, measure_on, median_run, paper_baseline,
     raster_pass,
 };
+use spraysim_engine::Simulation;
 use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -95,10 +97,36 @@ pub fn short_variants_on(count: usize, stage: &Arc<dyn FlightStage>) -> Result<f
     Ok(count as f64 / wall)
 }
 
-/// Times the reference scene on the CPU (every thread) and on `stage`, then the raster and the
-/// short variants on `stage`, as a Markdown table with the stage's share of each wall time.
+/// Runs simulations to their ends together, their calls flown in shared dispatches (the GPU's
+/// batches), and hands them back finished.
+pub type Together<'a> = &'a dyn Fn(Vec<Simulation>) -> Result<Vec<Simulation>, String>;
+
+/// `count` copies of `scenario` (seeds 1 to `count`), run to their ends together; returns their
+/// wall time (s) and the particles they emitted.
+fn batch_of(
+    scenario: &spraysim_scenario::Scenario,
+    count: usize,
+    together: Together<'_>,
+) -> Result<(f64, u64), BenchError> {
+    let sims = (1..=count)
+        .map(|k| Ok(scenario.with("simulation.seed", k as i64)?.build()?))
+        .collect::<Result<Vec<Simulation>, BenchError>>()?;
+    let start = Instant::now();
+    let done = together(sims).map_err(BenchError::Settings)?;
+    let wall = start.elapsed().as_secs_f64();
+    let emitted = done.iter().map(|s| s.metrics().emitted.count).sum::<u64>();
+    if emitted == 0 {
+        return Err(BenchError::Settings("the batch emitted nothing".into()));
+    }
+    Ok((wall, emitted))
+}
+
+/// Times the reference scene on the CPU (every thread) and on `stage`, then in batches of 16
+/// and 64 scenes run `together`, then the raster and the short variants (one after the other,
+/// and in batches of 64), as a Markdown table with the stage's share of each wall time.
 pub fn run_stage_rows(
     stage: Arc<dyn FlightStage>,
+    together: Together<'_>,
     m: &MatrixSettings,
     out: &mut impl std::io::Write,
 ) -> Result<(), BenchError> {
@@ -148,6 +176,19 @@ pub fn run_stage_rows(
         )?;
         profile(stage, out)?;
     }
+    // Batches: every scene's calls in shared dispatches (batches whose grids fit one binding,
+    // side by side).
+    for count in [16, 64] {
+        let (wall, emitted) = batch_of(&reference, count, together)?;
+        let rate = emitted as f64 / wall;
+        writeln!(
+            out,
+            "| reference, {count} scenes together | {wall:.4} | {rate:.3e} | {:.1} | {:.2} | — | — |",
+            rate / paper,
+            rate / cpu.particles_per_second(),
+        )?;
+        profile(&on, out)?;
+    }
     timed.take();
     let raster = measure_on(&raster_pass(1e5)?, all, Some(&on))?;
     let (inside, calls) = timed.take();
@@ -169,9 +210,13 @@ pub fn run_stage_rows(
         100.0 * inside * per_second / variants as f64
     )?;
     profile(&on, out)?;
-    writeln!(
-        out,
-        "batches of 16 and 64 scenes in one dispatch: not run (this version dispatches each scene's calls on their own)"
-    )?;
+    let short = ReferenceScene { duration: 0.2, ..ReferenceScene::default() }.scenario()?;
+    let start = Instant::now();
+    for first in (0..variants).step_by(64) {
+        batch_of(&short, 64.min(variants - first), together)?;
+    }
+    let per_second = variants as f64 / start.elapsed().as_secs_f64();
+    writeln!(out, "{variants} short variants in batches of 64 run together: {per_second:.1} per second")?;
+    profile(&on, out)?;
     Ok(())
 }

@@ -30,7 +30,9 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
 /// The GPU backend's rows, and its storage per particle slot.
 fn gpu_rows(settings: &spraysim_bench::MatrixSettings) -> Result<()> {
     let gpu = spraysim::backend::gpu()?;
-    spraysim_bench::stage::run_stage_rows(gpu, settings, &mut std::io::stdout().lock())?;
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let together = |sims| spraysim::backend::run_together(sims, &stop).map_err(|e| e.to_string());
+    spraysim_bench::stage::run_stage_rows(gpu, &together, settings, &mut std::io::stdout().lock())?;
     #[cfg(feature = "gpu")]
     say!("GPU particle storage: {} bytes per particle slot", spraysim::gpu::BYTES_PER_SLOT);
     Ok(())
