@@ -90,3 +90,24 @@ fn a_batch_stops_when_asked_and_each_member_s_run_can_go_on_alone() {
         assert!(sim.is_finished() && sim.flight_stage_error().is_none());
     }
 }
+
+#[test]
+fn a_run_that_changes_stages_midway_gives_the_bits_of_a_run_on_one() {
+    // Two stages of their own on one adapter: the second's calls change the layers the first's
+    // copy holds, which it must then copy whole, not bring up to date from what changed after.
+    let (Some(first), Some(second)) = (common::own_gpu(), common::own_gpu()) else { return };
+    let (first, second) = (std::sync::Arc::new(first), std::sync::Arc::new(second));
+    let scenario = failing_layer(0.4, 8);
+    let on_one = common::run(&scenario, Some(&first));
+    let mut switched = scenario.build().expect("builds");
+    let mut calls = 0;
+    while !switched.is_finished() {
+        let stage: std::sync::Arc<dyn spraysim_engine::pipeline::FlightStage> =
+            if calls % 3 == 1 { second.clone() } else { first.clone() };
+        switched.set_flight_stage(Some(stage));
+        switched.advance_call(switched.steps_to_call_end());
+        calls += 1;
+    }
+    assert!(calls >= 4, "{calls} calls");
+    assert!(outcome(&switched) == outcome(&on_one), "the run that changed stages differs");
+}

@@ -2,9 +2,9 @@
 //! where this build has them (the `gpu` feature, `spraysim-gpu`), an adapter opens and the
 //! scenario lies in their scope. The command and the Python binding both choose here.
 
-use crate::{Scenario, Simulation};
 use crate::pipeline::FlightStage;
 use crate::scenario::Backend;
+use crate::{Scenario, Simulation};
 use std::sync::Arc;
 
 /// How to get a build with the GPU backend.
@@ -109,7 +109,8 @@ pub fn run_together(
     sims: Vec<Simulation>,
     stop: &std::sync::atomic::AtomicBool,
 ) -> Result<Vec<Simulation>, BackendError> {
-    spraysim_gpu::run_together(&gpu_flight()?, sims, stop, |_, sim| sim).map_err(|e| BackendError(e.to_string()))
+    spraysim_gpu::run_together(&gpu_flight()?, sims, stop, |_, sim| sim)
+        .map_err(|e| BackendError(e.to_string()))
 }
 
 /// A build without the GPU backend cannot run simulations together on one.

@@ -459,6 +459,15 @@ impl Surface {
         }
     }
 
+    /// Gives the layer a new identity (see [`HeightField::forget_copies`]); nothing for a mesh.
+    pub fn forget_copies(&mut self) {
+        match self {
+            Surface::Rectangle(s) => s.field.forget_copies(),
+            Surface::Cylinder(s) => s.field.forget_copies(),
+            Surface::Mesh(_) => {}
+        }
+    }
+
     /// Writes the deposit's state (what a run changes), for a checkpoint.
     pub(crate) fn save_state(&self, e: &mut crate::checkpoint::Enc) {
         match self {

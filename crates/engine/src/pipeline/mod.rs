@@ -466,6 +466,11 @@ impl Simulation {
     /// gathered as events fly on the engine's own flight, as does a call the stage declines
     /// (see [`Simulation::flight_stage_error`]).
     pub fn set_flight_stage(&mut self, stage: Option<Arc<dyn FlightStage>>) {
+        // The layers' changes from now on go to the new stage alone: a copy another stage made
+        // (and may meet again) no longer follows them, so each layer takes a new identity.
+        for t in &mut self.state.targets {
+            t.surface.forget_copies();
+        }
         self.stage = stage;
     }
 

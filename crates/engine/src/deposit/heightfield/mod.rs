@@ -225,6 +225,12 @@ impl HeightField {
         (self.revised.identity, self.revised.cells.take())
     }
 
+    /// Gives the layer a new identity, so that no copy made before (a GPU's) is brought up to
+    /// date by later changes: the next copy is made whole.
+    pub fn forget_copies(&mut self) {
+        self.revised = Revised::new(self.thickness.len());
+    }
+
     /// The cells whose thickness changed since the last call, ascending.
     pub fn take_changed(&mut self) -> Vec<u32> {
         self.changed.take()
