@@ -103,3 +103,40 @@ def test_the_gym_environment_sprays_on_the_gpu(gpu_or_skip):
         assert math.isfinite(reward)
     assert truncated and env.sim.metrics()["targets"][env.target]["stuck"]["count"] > 0
     assert isinstance(env.observation_space, gym.spaces.Space)
+
+
+@pytest.mark.parametrize("backend", ["cpu", "gpu"])
+def test_the_vector_env_steps_its_envs_together_as_each_alone(backend, request):
+    gym = pytest.importorskip("gymnasium")
+    if not hasattr(gym.vector, "AutoresetMode"):
+        pytest.skip("SprayVectorEnv needs Gymnasium 1.0")
+    if backend == "gpu":
+        request.getfixturevalue("gpu_or_skip")
+    import numpy as np
+    from spraysim.gym import SprayEnv, SprayVectorEnv
+
+    kwargs = dict(process="painting", actions=("move", "standoff"), episode_steps=3, backend=backend)
+    envs = SprayVectorEnv(3, **kwargs)
+    singles = [SprayEnv(**kwargs) for _ in range(3)]
+    obs, _ = envs.reset(seed=5)
+    alone = [env.reset(seed=5 + k)[0] for k, env in enumerate(singles)]
+    for key in obs:
+        assert np.array_equal(obs[key], np.stack([o[key] for o in alone]))
+    rng = np.random.default_rng(0)
+    ended, ends = [False] * 3, 0
+    # Five steps: the episodes end at the third, and the fourth resets them (its actions unused).
+    for step in range(5):
+        actions = rng.uniform(-1, 1, size=envs.action_space.shape)
+        obs, rewards, terminated, truncated, _ = envs.step(actions)
+        for k, env in enumerate(singles):
+            if ended[k]:
+                o, r, done = env.reset()[0], 0.0, False
+            else:
+                o, r, te, tr, _ = env.step(actions[k])
+                done = te or tr
+            ended[k] = done
+            ends += done
+            assert rewards[k] == r and (terminated[k] or truncated[k]) == done, (step, k)
+            for key in o:
+                assert np.array_equal(obs[key][k], o[key]), (step, k, key)
+    assert ends == 3 and envs.envs[0].sim.backend == backend

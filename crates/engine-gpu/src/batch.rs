@@ -21,6 +21,7 @@ use crate::report::report;
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::{DepositSurface, Surface};
 use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
+use std::borrow::BorrowMut;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
@@ -238,41 +239,45 @@ fn grid_cells(sim: &Simulation) -> u64 {
     cells as u64
 }
 
-/// Runs `sims` to their ends together, each on a thread of its own, their calls flown in shared
-/// dispatches on `flight`, and returns `done(k, sim)` of each in their order (called on its
-/// thread as it finishes). The simulations are split, in order, into batches whose grids fit
-/// one binding of cells (16 bytes a cell, 32 where a target erodes); the batches run side by
-/// side, each a dispatch per
-/// round of calls. Each simulation stops early, after the call under way, once `stop` is set.
-/// Its results equal its run alone.
-pub fn run_together<T: Send>(
+/// Advances `sims` together, each on a thread of its own by `advance(k, sim)` (called until it
+/// returns false or `stop` is set), those with a flight stage with their calls flown in shared
+/// dispatches on `flight` (batches whose grids fit one binding of cells, 16 bytes a cell and 32
+/// where a target erodes, side by side), the others on the engine's own flight; each leaves its
+/// batch when done. Hands the simulations back, their stages replaced by their batch members.
+fn together<S: BorrowMut<Simulation> + Send>(
     flight: &Arc<GpuFlight>,
-    mut sims: Vec<Simulation>,
+    mut sims: Vec<S>,
     stop: &AtomicBool,
-    done: impl Fn(usize, Simulation) -> T + Sync,
-) -> Result<Vec<T>, GpuError> {
+    advance: impl Fn(usize, &mut Simulation) -> bool + Sync,
+) -> Result<Vec<S>, GpuError> {
     let limit = flight.gpu.device.limits().max_storage_buffer_binding_size;
-    // Bytes a cell takes in the largest binding: its counters, or its wear where a target erodes.
     let per_cell =
         |sim: &Simulation| if sim.config().targets.iter().any(|t| t.erosion.is_some()) { 32 } else { 16 };
-    let mut members = Vec::with_capacity(sims.len());
+    let on_gpu: Vec<usize> = (0..sims.len()).filter(|&k| sims[k].borrow().flight_stage().is_some()).collect();
+    let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
     let mut start = 0;
-    while start < sims.len() {
+    while start < on_gpu.len() {
         let (mut end, mut cells, mut widest) = (start, 0, 16);
-        while end < sims.len() {
-            let (more, wide) = (cells + grid_cells(&sims[end]), per_cell(&sims[end]).max(widest));
+        while end < on_gpu.len() {
+            let sim = sims[on_gpu[end]].borrow();
+            let (more, wide) = (cells + grid_cells(sim), per_cell(sim).max(widest));
             if end > start && (more + 1) * wide > limit {
                 break;
             }
             (cells, widest, end) = (more, wide, end + 1);
         }
-        members.extend(GpuBatch::members(flight.clone(), &sims[start..end].iter().collect::<Vec<_>>())?);
+        let batch: Vec<&Simulation> = on_gpu[start..end].iter().map(|&k| sims[k].borrow()).collect();
+        for (&k, member) in on_gpu[start..end].iter().zip(GpuBatch::members(flight.clone(), &batch)?) {
+            members[k] = Some(member);
+        }
         start = end;
     }
     for (sim, member) in sims.iter_mut().zip(&members) {
-        sim.set_flight_stage(Some(member.clone() as Arc<dyn FlightStage>));
+        if let Some(m) = member {
+            sim.borrow_mut().set_flight_stage(Some(m.clone() as Arc<dyn FlightStage>));
+        }
     }
-    let done = &done;
+    let advance = &advance;
     Ok(std::thread::scope(|scope| {
         let handles: Vec<_> = sims
             .into_iter()
@@ -280,14 +285,65 @@ pub fn run_together<T: Send>(
             .enumerate()
             .map(|(k, (mut sim, member))| {
                 scope.spawn(move || {
-                    while !sim.is_finished() && !stop.load(Ordering::Relaxed) {
-                        sim.advance_call(sim.steps_to_call_end());
+                    while !stop.load(Ordering::Relaxed) && advance(k, sim.borrow_mut()) {}
+                    if let Some(m) = member {
+                        m.leave();
                     }
-                    member.leave();
-                    done(k, sim)
+                    sim
                 })
             })
             .collect();
         handles.into_iter().map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
     }))
+}
+
+/// Runs `sims` (each with a flight stage) to their ends together, each on a thread of its own,
+/// their calls flown in shared dispatches on `flight` (see [`GpuBatch`]; a set whose grids
+/// outgrow one binding of cells is split into batches that run side by side), and returns
+/// `done(k, sim)` of each in their order. Each stops early, after the call under way, once
+/// `stop` is set. Each one's results equal its run alone.
+pub fn run_together<T: Send>(
+    flight: &Arc<GpuFlight>,
+    mut sims: Vec<Simulation>,
+    stop: &AtomicBool,
+    done: impl Fn(usize, Simulation) -> T + Sync,
+) -> Result<Vec<T>, GpuError> {
+    for sim in sims.iter_mut().filter(|s| s.flight_stage().is_none()) {
+        sim.set_flight_stage(Some(flight.clone()));
+    }
+    let finished = together(flight, sims, stop, |_, sim| {
+        if !sim.is_finished() {
+            sim.advance_call(sim.steps_to_call_end());
+        }
+        !sim.is_finished()
+    })?;
+    Ok(finished.into_iter().enumerate().map(|(k, sim)| done(k, sim)).collect())
+}
+
+/// Advances each of `sims` by `steps` steps (or to its run's end), together: each on a thread
+/// of its own, the calls of those with a flight stage flown in shared dispatches on `flight`
+/// (as [`run_together`]), the others on the engine's own flight; each keeps its stage. Each
+/// stops early, after the call under way, once `stop` is set. Each one's results equal its
+/// steps alone: the vectorised step of a set of environments.
+pub fn step_together(
+    flight: &Arc<GpuFlight>,
+    sims: &mut [&mut Simulation],
+    steps: u64,
+    stop: &AtomicBool,
+) -> Result<(), GpuError> {
+    let stages: Vec<Option<Arc<dyn FlightStage>>> = sims.iter().map(|s| s.flight_stage().cloned()).collect();
+    let goals: Vec<u64> =
+        sims.iter().map(|s| s.steps_done().saturating_add(steps).min(s.total_steps())).collect();
+    let borrowed: Vec<&mut Simulation> = sims.iter_mut().map(|s| &mut **s).collect();
+    together(flight, borrowed, stop, |k, sim| {
+        let left = goals[k].saturating_sub(sim.steps_done());
+        if left > 0 {
+            sim.advance_call(sim.steps_to_call_end().min(left));
+        }
+        sim.steps_done() < goals[k]
+    })?;
+    for (sim, stage) in sims.iter_mut().zip(stages) {
+        sim.set_flight_stage(stage);
+    }
+    Ok(())
 }

@@ -57,7 +57,7 @@ mod pack;
 mod report;
 mod scope;
 
-pub use batch::{BatchMember, GpuBatch, run_together};
+pub use batch::{BatchMember, GpuBatch, run_together, step_together};
 pub use device::{EPOCHS_PER_CALL, Gpu, GpuOptions};
 pub use flight::{GpuFlight, Profile};
 pub use pack::BYTES_PER_SLOT;

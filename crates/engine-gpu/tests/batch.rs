@@ -111,3 +111,40 @@ fn a_run_that_changes_stages_midway_gives_the_bits_of_a_run_on_one() {
     assert!(calls >= 4, "{calls} calls");
     assert!(outcome(&switched) == outcome(&on_one), "the run that changed stages differs");
 }
+
+#[test]
+fn stepping_together_gives_the_bits_of_stepping_each_alone() {
+    let Some(gpu) = common::own_gpu().map(std::sync::Arc::new) else { return };
+    // Two runs on the GPU and one on the CPU, stepped 37 steps at a time (calls end within
+    // epochs), as a vectorised environment steps its environments.
+    let scenarios = [shotcrete(0.2, 21), failing_layer(0.3, 22), shotcrete(0.15, 23)];
+    let build = |k: usize| {
+        let mut sim = scenarios[k].build().expect("builds");
+        if k < 2 {
+            sim.set_flight_stage(Some(gpu.clone()));
+        }
+        sim
+    };
+    let alone: Vec<_> = (0..3)
+        .map(|k| {
+            let mut sim = build(k);
+            while !sim.is_finished() {
+                sim.advance(37.min(sim.total_steps() - sim.steps_done()));
+            }
+            outcome(&sim)
+        })
+        .collect();
+    let mut sims: Vec<Simulation> = (0..3).map(build).collect();
+    let stop = AtomicBool::new(false);
+    let mut rounds = 0;
+    while sims.iter().any(|s| !s.is_finished()) {
+        let mut refs: Vec<&mut Simulation> = sims.iter_mut().collect();
+        spraysim_gpu::step_together(&gpu, &mut refs, 37, &stop).expect("steps");
+        rounds += 1;
+    }
+    assert!(rounds > 5);
+    for (k, (sim, a)) in sims.iter().zip(&alone).enumerate() {
+        assert_eq!(sim.flight_stage().is_some(), k < 2, "each keeps its stage");
+        assert!(outcome(sim) == *a, "scenario {k} stepped together differs from its steps alone");
+    }
+}

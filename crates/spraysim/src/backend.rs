@@ -121,3 +121,43 @@ pub fn run_together(
 ) -> Result<Vec<Simulation>, BackendError> {
     Err(no_gpu())
 }
+
+/// Advances each of `sims` by `steps` steps (or to its run's end), together: those on the GPU
+/// with their calls flown in shared dispatches, each on a thread of its own (see
+/// `spraysim_gpu::step_together`), the others on the CPU; each stops after the call under way
+/// once `stop` is set. Each one's results equal its steps alone.
+#[cfg(feature = "gpu")]
+pub fn step_together(
+    sims: &mut [&mut Simulation],
+    steps: u64,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<(), BackendError> {
+    if sims.iter().all(|s| s.flight_stage().is_none()) {
+        step_on_cpu(sims, steps, stop);
+        return Ok(());
+    }
+    spraysim_gpu::step_together(&gpu_flight()?, sims, steps, stop).map_err(|e| BackendError(e.to_string()))
+}
+
+/// Advances each of `sims` (none of which can be on a GPU in this build) by `steps` steps.
+#[cfg(not(feature = "gpu"))]
+pub fn step_together(
+    sims: &mut [&mut Simulation],
+    steps: u64,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<(), BackendError> {
+    step_on_cpu(sims, steps, stop);
+    Ok(())
+}
+
+/// Advances each of `sims` by `steps` steps (or to its run's end) on its own flight, one after
+/// the other, a call at a time while `stop` is not set.
+fn step_on_cpu(sims: &mut [&mut Simulation], steps: u64, stop: &std::sync::atomic::AtomicBool) {
+    for sim in sims.iter_mut() {
+        let goal = sim.steps_done().saturating_add(steps).min(sim.total_steps());
+        while sim.steps_done() < goal && !stop.load(std::sync::atomic::Ordering::Relaxed) {
+            let left = goal - sim.steps_done();
+            sim.advance_call(sim.steps_to_call_end().min(left));
+        }
+    }
+}

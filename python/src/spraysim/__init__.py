@@ -36,7 +36,9 @@ Conventions:
 - :class:`Simulation`: steps, runs (releasing the interpreter; Ctrl-C works), numpy arrays of
   particles and deposits, metrics, outputs, nozzle control between steps, snapshots.
 - :func:`run_many`: many scenarios in parallel inside Rust.
-- :mod:`spraysim.gym`: a Gymnasium environment (needs ``pip install gymnasium``).
+- :func:`step_together`: simulations stepped together (on the GPU, in shared dispatches).
+- :mod:`spraysim.gym`: a Gymnasium environment, and its vectorised form (needs ``pip install
+  gymnasium``).
 """
 
 from ._core import (
@@ -51,6 +53,7 @@ from ._core import (
     presets,
     presets_toml,
     run_many,
+    step_together,
 )
 
 __all__ = [
@@ -65,4 +68,5 @@ __all__ = [
     "presets",
     "presets_toml",
     "run_many",
+    "step_together",
 ]

@@ -5,7 +5,7 @@ SI units throughout (m, s, kg); angles in degrees everywhere, the unit in every 
 """
 
 import os
-from typing import Any, Callable, Iterable, Literal, Mapping, Optional, Tuple, TypedDict, Union, final, overload
+from typing import Any, Callable, Iterable, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -21,6 +21,7 @@ __all__ = [
     "presets",
     "presets_toml",
     "run_many",
+    "step_together",
     "__version__",
 ]
 
@@ -447,7 +448,9 @@ def run_many(
     (``maps=False``, or smaller parts).
 
     ``backend`` is as for ``Simulation``, for every run (None: each scenario's own); with
-    ``"gpu"`` the runs share one GPU, their calls taking turns on it."""
+    ``"gpu"`` the runs go in batches of up to 64 (fewer where memory needs it; ``threads`` does
+    not bound them), each run on a thread of its own and the batch's calls flown together in
+    one dispatch; each run's results equal its run alone on the GPU."""
 @overload
 def run_many(
     scenarios: Iterable[_ScenarioSource],
@@ -455,3 +458,9 @@ def run_many(
     maps: Literal[True] = ...,
     backend: Optional[str] = None,
 ) -> list[Tuple[dict[str, Any], dict[str, npt.NDArray[np.float64]]]]: ...
+def step_together(sims: Sequence[Simulation], n: Optional[int] = None) -> None:
+    """Advances each simulation of ``sims`` by ``n`` steps (1 when None; fewer where its run
+    ends), together: each on a thread of its own, the calls of those on the GPU flown in shared
+    dispatches (one dispatch for all of a batch), the others on the CPU. Each one's results
+    equal stepping it alone. The simulations must be distinct; each is busy until all are done.
+    Ctrl-C raises ``KeyboardInterrupt`` once the calls under way end."""

@@ -72,12 +72,13 @@ import warnings
 from typing import Any, Optional, Sequence, Tuple, Union
 
 import gymnasium
+import gymnasium.vector
 import numpy as np
 from gymnasium import spaces
 
-from ._core import Scenario, Simulation
+from ._core import Scenario, Simulation, step_together
 
-__all__ = ["SprayEnv", "default_scenario", "ENV_ID", "ACTIONS", "PROCESSES"]
+__all__ = ["SprayEnv", "SprayVectorEnv", "default_scenario", "ENV_ID", "ACTIONS", "PROCESSES"]
 
 ENV_ID = "spraysim/Spray-v0"
 """The id under which ``gymnasium.make`` finds :class:`SprayEnv`."""
@@ -476,6 +477,14 @@ class SprayEnv(gymnasium.Env):
 
     def step(self, action: np.ndarray) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """Moves the nozzle as ``action`` says for ``control_dt`` seconds of simulation."""
+        self._begin_step(action)
+        assert self.sim is not None
+        self.sim.step(self.steps_per_action)
+        return self._end_step()
+
+    def _begin_step(self, action: np.ndarray) -> None:
+        """Checks ``action`` and sets the nozzle's path for the step it asks for; the simulation
+        is then stepped ``steps_per_action`` steps, and :meth:`_end_step` ends the step."""
         if self.sim is None:
             raise RuntimeError("call reset() before step()")
         a = np.asarray(action, dtype=np.float64).reshape(-1)
@@ -497,8 +506,11 @@ class SprayEnv(gymnasium.Env):
                 {"time": t0 + f * self.control_dt, "position": position, "axis": axis, "spray": after["spray"]}
             )
         self.sim.set_nozzle_path(waypoints)
-        self.sim.step(self.steps_per_action)
-        self._pose = after
+        self._next = after
+
+    def _end_step(self) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        """The step's observation, reward, end flags and info, once the simulation has stepped."""
+        self._pose = self._next
         self._steps += 1
         values = self._map()
         info = self._measure(values)
@@ -532,6 +544,101 @@ class SprayEnv(gymnasium.Env):
         img[max(0, r - arm) : r + arm + 1, c] = 255
         img[r, max(0, c - arm) : c + arm + 1] = 255
         return np.ascontiguousarray(img[::-1].astype(np.uint8))
+
+
+class SprayVectorEnv(gymnasium.vector.VectorEnv):
+    """``num_envs`` copies of :class:`SprayEnv` (each built with ``**kwargs``) stepped together:
+    their simulations advance at once (:func:`spraysim.step_together`), on the GPU in shared
+    dispatches (one dispatch for all) with ``backend="gpu"``, each on a thread of its own on the
+    CPU otherwise. Observations, rewards and flags are stacked along a first axis of
+    ``num_envs``; each environment's results equal :class:`SprayEnv`'s with the same seed and
+    actions. An environment whose episode ended is reset by the next step, whose action for it
+    is ignored (Gymnasium's next-step autoreset); ``reset(seed=s)`` seeds environment ``k`` with
+    ``s + k``. Needs Gymnasium 1.0 or later.
+
+    >>> from spraysim.gym import SprayVectorEnv
+    >>> envs = SprayVectorEnv(4, process="painting", episode_steps=3)
+    >>> obs, info = envs.reset(seed=1)
+    >>> obs, rewards, terminations, truncations, info = envs.step(envs.action_space.sample())
+    """
+
+    def __init__(self, num_envs: int, **kwargs: Any) -> None:
+        if not hasattr(gymnasium.vector, "AutoresetMode"):
+            raise RuntimeError(f"SprayVectorEnv needs Gymnasium 1.0 or later, found {gymnasium.__version__}")
+        if int(num_envs) != num_envs or num_envs < 1:
+            raise ValueError(f"num_envs: must be a whole number ≥ 1, got {num_envs!r}")
+        self.num_envs = int(num_envs)
+        self.envs = [SprayEnv(**kwargs) for _ in range(self.num_envs)]
+        first = self.envs[0]
+        self.metadata = {
+            **SprayEnv.metadata,
+            "autoreset_mode": gymnasium.vector.AutoresetMode.NEXT_STEP,
+        }
+        self.render_mode = first.render_mode
+        self.single_observation_space = first.observation_space
+        self.single_action_space = first.action_space
+        self.observation_space = gymnasium.vector.utils.batch_space(first.observation_space, self.num_envs)
+        self.action_space = gymnasium.vector.utils.batch_space(first.action_space, self.num_envs)
+        self._ended = np.zeros(self.num_envs, dtype=bool)
+
+    def _stack(self, observations: list[dict[str, np.ndarray]]) -> dict[str, np.ndarray]:
+        return {key: np.stack([o[key] for o in observations]) for key in observations[0]}
+
+    def _merge(self, infos: list[dict[str, Any]]) -> dict[str, Any]:
+        merged: dict[str, Any] = {}
+        for k, info in enumerate(infos):
+            merged = self._add_info(merged, info, k)
+        return merged
+
+    def reset(
+        self, *, seed: Optional[Union[int, Sequence[Optional[int]]]] = None, options: Optional[dict[str, Any]] = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """Starts every environment's episode; ``seed`` is an int (environment ``k`` takes
+        ``seed + k``), a list of seeds (one each, None for a drawn one) or None."""
+        if seed is None or isinstance(seed, (int, np.integer)):
+            seeds = [None if seed is None else int(seed) + k for k in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"seed: must hold {self.num_envs} seeds, one per environment, got {len(seeds)}")
+        results = [env.reset(seed=s, options=options) for env, s in zip(self.envs, seeds)]
+        self._ended[:] = False
+        return self._stack([r[0] for r in results]), self._merge([r[1] for r in results])
+
+    def step(
+        self, actions: np.ndarray
+    ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """Steps every environment by its row of ``actions``, together; an environment whose
+        episode ended at the last step is reset instead (reward 0, not ended)."""
+        a = np.asarray(actions, dtype=np.float64)
+        if a.shape != self.action_space.shape:
+            raise ValueError(f"actions: must have shape {self.action_space.shape}, got {a.shape}")
+        stepping = [k for k in range(self.num_envs) if not self._ended[k]]
+        for k in stepping:
+            self.envs[k]._begin_step(a[k])
+        sims = [self.envs[k].sim for k in stepping]
+        if sims:
+            step_together(sims, self.envs[0].steps_per_action)
+        observations: list[dict[str, np.ndarray]] = []
+        rewards = np.zeros(self.num_envs)
+        terminations = np.zeros(self.num_envs, dtype=bool)
+        truncations = np.zeros(self.num_envs, dtype=bool)
+        infos: list[dict[str, Any]] = []
+        for k, env in enumerate(self.envs):
+            if self._ended[k]:
+                obs, info = env.reset()
+            else:
+                obs, rewards[k], terminations[k], truncations[k], info = env._end_step()
+            observations.append(obs)
+            infos.append(info)
+        self._ended = terminations | truncations
+        return self._stack(observations), rewards, terminations, truncations, self._merge(infos)
+
+    def render(self) -> Optional[tuple[np.ndarray, ...]]:
+        """Each environment's :meth:`SprayEnv.render`, with ``render_mode="rgb_array"``."""
+        if self.render_mode != "rgb_array":
+            return None
+        return tuple(env.render() for env in self.envs)
 
 
 if ENV_ID not in gymnasium.envs.registry:

@@ -33,6 +33,7 @@ mod exclusive;
 mod nozzle;
 mod scenario;
 mod simulation;
+mod together;
 mod views;
 mod work;
 
@@ -45,6 +46,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<simulation::PySimulation>()?;
     m.add_class::<simulation::PySnapshot>()?;
     m.add_function(wrap_pyfunction!(batch::run_many, m)?)?;
+    m.add_function(wrap_pyfunction!(together::step_together, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::presets, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::presets_toml, m)?)?;
     m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
