@@ -627,9 +627,80 @@ fn solid(at: u32, cell: u32, uv: vec2<f32>) -> u32 {
     return cell;
 }
 
+// The unit normal of the bare surface of the target at `at` at `q`, towards the side sprayed.
+fn bare_normal(at: u32, q: vec3<f32>) -> vec3<f32> {
+    if (scene[at + 29u] == SHELL) {
+        return shell_normal(at, q);
+    }
+    return v3(at + 3u);
+}
+
+// The layer's thickness (m) in the cell under `q` on the target at `at`: a rectangle's point
+// taken to its grid's nearest cell, 0 past a shell's edges.
+fn layer_under(at: u32, q: vec3<f32>) -> f32 {
+    if (scene[at + 29u] == SHELL) {
+        let l = shell_local(at, q);
+        if (l.w == 0.0) {
+            return 0.0;
+        }
+        return thickness[first_cell(at) + cell_at(at, l.x, l.y)];
+    }
+    let uv = face_uv(at, q);
+    return thickness[first_cell(at) + cell_at(at, uv.x, uv.y)];
+}
+
+// The first fraction of the segment at which it comes down through `level` m above the surface
+// of the target at `at`, towards it from the side sprayed; NONE if it does not. `h` holds the
+// heights of the segment's ends above a rectangle (along which its height is linear).
+fn level_down(at: u32, p0: vec3<f32>, p1: vec3<f32>, h: vec2<f32>, level: f32) -> f32 {
+    if (scene[at + 29u] == SHELL) {
+        return shell_level(at, p0, p1, level, true);
+    }
+    if (h.y < level) {
+        return (h.x - level) / (h.x - h.y);
+    }
+    return NONE;
+}
+
+// Where a segment that starts `h.x` m above the target's surface (on the side sprayed, over
+// its layer) meets the layer: the crossing of the layer's height in the cell under it, found
+// again at most three times. A path that meets a column taller than its start enters it
+// through its side, and the material settles in the column it came down (as in ballistic
+// deposition: stacking it on the taller one would let every column that gets ahead catch its
+// neighbours' flux and grow into a needle); the contact is then taken half a cell back along
+// the path (within it), over the column it came down. Returns the fraction of the segment
+// (above 1: none within it) and 1 where the crossing is the bare surface's (else 0).
+fn layer_crossing(at: u32, p0: vec3<f32>, p1: vec3<f32>, h: vec2<f32>) -> vec2<f32> {
+    let d = p1 - p0;
+    var s = min(level_down(at, p0, p1, h, 0.0), 1.0);
+    var layer = -1.0;
+    var side = false;
+    for (var k = 0u; k < 3u; k++) {
+        let next = layer_under(at, p0 + d * s);
+        if (h.x <= next) {
+            side = true;
+            break;
+        }
+        if (next == layer) {
+            break;
+        }
+        layer = next;
+        s = level_down(at, p0, p1, h, layer);
+        if (s > 1.0) {
+            break;
+        }
+    }
+    if (side) {
+        let n = bare_normal(at, p0 + d * s);
+        let cells = vec2<f32>(2.0 * f(at + 12u) / f32(scene[at + 14u]), 2.0 * f(at + 13u) / f32(scene[at + 15u]));
+        let along = length(d - n * dot(d, n));
+        s = max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
+    }
+    return vec2<f32>(s, select(0.0, 1.0, !side && layer <= 0.0));
+}
+
 // The first hit of the segment on target t: its layer from the front (read as flat at the
-// thickness of the cell under the crossing, found again at most three times), or its bare
-// back. A crossing of the bare surface inside an opening passes: a straight path that has
+// thickness of the cell under the crossing: `layer_crossing`), or its bare back. A crossing of the bare surface inside an opening passes: a straight path that has
 // crossed its plane there meets nothing more of the target.
 fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let at = M.tables.y + TARGET_WORDS * t;
@@ -662,43 +733,10 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
             s = h0 / (h0 - h1);
         }
     } else if (h0 > 0.0 && h1 <= top) {
-        // From the front, into the band the layer may fill: the crossing of the layer's height
-        // in the cell under it, found again at most three times. A path that meets a column
-        // taller than its start enters it through its side, and the material settles in the
-        // column it came down (as in ballistic deposition: stacking it on the taller one would
-        // let every column that gets ahead catch its neighbours' flux and grow into a needle).
-        s = 1.0;
-        if (h1 < 0.0) {
-            s = h0 / (h0 - h1);
-        }
-        var layer = -1.0;
-        var side = false;
-        for (var k = 0u; k < 3u; k++) {
-            let uv = face_uv(at, p0 + d * s);
-            let next = thickness[first + cell_at(at, uv.x, uv.y)];
-            if (h0 <= next) {
-                side = true;
-                break;
-            }
-            if (next == layer) {
-                break;
-            }
-            layer = next;
-            if (h1 < layer) {
-                s = (h0 - layer) / (h0 - h1);
-            } else {
-                s = NONE;
-                break;
-            }
-        }
-        bare = !side && layer <= 0.0;
-        if (side) {
-            // Met at half a cell back along the path (within it): outside the taller column,
-            // over the one it came down.
-            let cells = vec2<f32>(2.0 * hw / f32(scene[at + 14u]), 2.0 * hh / f32(scene[at + 15u]));
-            let along = length(d - n * dot(d, n));
-            s = max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
-        }
+        // From the front, into the band the layer may fill.
+        let crossing = layer_crossing(at, p0, p1, vec2<f32>(h0, h1));
+        s = crossing.x;
+        bare = crossing.y > 0.0;
     } else if (h0 < 0.0 && h1 >= 0.0) {
         // From behind, onto the bare back.
         s = clamp(h0 / (h0 - h1), 0.0, 1.0);
@@ -806,17 +844,14 @@ fn shell_level(at: u32, p0: vec3<f32>, p1: vec3<f32>, level: f32, down: bool) ->
     return NONE;
 }
 
-// The first hit of a segment that starts on the side sprayed of shell t (at `at`): its layer,
-// read as on a rectangle (at the thickness of the cell under the crossing, found again at most
-// three times), or the bare surface; an opening lets a bare crossing pass.
+// The first hit of a segment that starts on the side sprayed of shell t (at `at`): its layer
+// (`layer_crossing`), or the bare surface; an opening lets a bare crossing pass.
 fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
-    let first = first_cell(at);
     let top = band(t);
-    let l0 = shell_local(at, p0);
-    let h0 = l0.z;
+    let h0 = shell_local(at, p0).z;
     var own = 0.0;
-    if (h0 <= top && l0.w > 0.0) {
-        own = thickness[first + cell_at(at, l0.x, l0.y)];
+    if (h0 <= top) {
+        own = layer_under(at, p0);
     }
     var s = NONE;
     var bare = true;
@@ -833,42 +868,14 @@ fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
         if (enters > 1.0) {
             return no_hit();
         }
-        s = min(shell_level(at, p0, p1, 0.0, true), 1.0);
-        var layer = -1.0;
-        var side = false;
-        for (var k = 0u; k < 3u; k++) {
-            let l = shell_local(at, mix(p0, p1, s));
-            var next = 0.0;
-            if (l.w > 0.0) {
-                next = thickness[first + cell_at(at, l.x, l.y)];
-            }
-            if (h0 <= next) {
-                side = true;
-                break;
-            }
-            if (next == layer) {
-                break;
-            }
-            layer = next;
-            s = shell_level(at, p0, p1, layer, true);
-            if (s > 1.0) {
-                break;
-            }
-        }
-        bare = !side && layer <= 0.0;
-        if (side) {
-            let q = mix(p0, p1, s);
-            let n = shell_normal(at, q);
-            let d = p1 - p0;
-            let cells = vec2<f32>(2.0 * f(at + 12u) / f32(scene[at + 14u]), 2.0 * f(at + 13u) / f32(scene[at + 15u]));
-            let along = length(d - n * dot(d, n));
-            s = max(s - 0.5 * min(cells.x, cells.y) / max(along, 1e-12), 0.0);
-        }
+        let crossing = layer_crossing(at, p0, p1, vec2<f32>(h0, 0.0));
+        s = crossing.x;
+        bare = crossing.y > 0.0;
     }
     if (s > 1.0) {
         return no_hit();
     }
-    let q = mix(p0, p1, s);
+    let q = p0 + (p1 - p0) * s;
     let l = shell_local(at, q);
     let uv = l.xy;
     if (l.w == 0.0 || (bare && scene[at + 23u] != 0u && in_opening(at, uv))) {
@@ -1110,11 +1117,7 @@ fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
         cos_theta = clamp(-dot(v_in, h.normal) / speed, 0.0, 1.0);
         if (front) {
             // On a layer, θ is taken on the bare surface (as the field's curves are).
-            let at = M.tables.y + TARGET_WORDS * h.owner;
-            var bare = v3(at + 3u);
-            if (scene[at + 29u] == SHELL) {
-                bare = shell_normal(at, h.point);
-            }
+            let bare = bare_normal(M.tables.y + TARGET_WORDS * h.owner, h.point);
             cos_theta = min(abs(dot(v_in, bare)) / speed, 1.0);
         }
     }
