@@ -7,8 +7,10 @@ mod common;
 use common::{mean_sd, run};
 use spraysim_engine::deposit::{DepositSurface, Opening, Surface};
 use spraysim_engine::{Metrics, Simulation};
+use spraysim_gpu::GpuFlight;
 use spraysim_scenario::Scenario;
 use spraysim_scenario::scenes::{NOZZLE_AT_WALL, bar, failing_layer, floor, scenario, wall};
+use std::sync::Arc;
 
 /// Seeds per backend.
 const SEEDS: u64 = 4;
@@ -76,6 +78,49 @@ fn moments(sim: &Simulation) -> [f64; 4] {
     [v * field.cell_area(), cu, cv, (r2 / v - cu * cu - cv * cv).sqrt()]
 }
 
+/// `scene`'s runs over `SEEDS` seeds on the CPU (seeds 1 on) and on the GPU (seeds 101 on), each
+/// GPU run's particles and volume conserved.
+fn both(gpu: &Arc<GpuFlight>, scene: impl Fn(u64) -> Scenario) -> (Vec<Simulation>, Vec<Simulation>) {
+    let cpu = (1..=SEEDS).map(|seed| run(&scene(seed), None)).collect();
+    let on_gpu: Vec<Simulation> = (1..=SEEDS).map(|seed| run(&scene(100 + seed), Some(gpu))).collect();
+    on_gpu.iter().for_each(|s| conserved(&s.metrics()));
+    (cpu, on_gpu)
+}
+
+/// Asserts that each case's figure, as a share of the particles emitted over the runs, agrees
+/// between the CPU's runs and the GPU's as binomial shares; on the CPU each must be at least
+/// `least`, so that the case tests something.
+fn same_shares(cases: &[(&str, &Figure)], cpu: &[Simulation], gpu: &[Simulation], least: f64) {
+    let share = |runs: &[Simulation], f: &Figure| {
+        let ms: Vec<Metrics> = runs.iter().map(Simulation::metrics).collect();
+        let n: f64 = ms.iter().map(|m| m.emitted.count as f64).sum();
+        (ms.iter().map(f).sum::<f64>() / n, n)
+    };
+    for &(what, f) in cases {
+        let (c, g) = (share(cpu, f), share(gpu, f));
+        assert!(c.0 >= least, "{what}: {:.4} on the CPU, too few to test", c.0);
+        same_share(what, c, g);
+    }
+}
+
+/// Asserts that the first target's layer moments `which` (index into [`moments`], name, floor
+/// in m or m³) agree between the CPU's runs and the GPU's, seed by seed.
+fn same_moments(which: &[(usize, &str, f64)], cpu: &[Simulation], gpu: &[Simulation]) {
+    let per_seed = |runs: &[Simulation], k: usize| runs.iter().map(|s| moments(s)[k]).collect::<Vec<_>>();
+    for &(k, what, floor) in which {
+        same_mean(what, &per_seed(cpu, k), &per_seed(gpu, k), floor);
+    }
+}
+
+/// Cells are 10 mm or so: the GPU's f32 and flat-layer contact move a centroid by far less than
+/// a millimetre.
+const LAYER_MOMENTS: [(usize, &str, f64); 4] = [
+    (0, "layer volume", 0.0),
+    (1, "centroid across", 1e-3),
+    (2, "centroid up", 1e-3),
+    (3, "radius of gyration", 1e-3),
+];
+
 fn conserved(m: &Metrics) {
     assert_eq!(m.emitted.count, m.fates.total().count, "every particle has one fate");
     let b = &m.volume_balance;
@@ -85,19 +130,7 @@ fn conserved(m: &Metrics) {
 #[test]
 fn shotcrete_on_the_gpu_agrees_with_the_cpu_engine_within_statistics() {
     let Some(gpu) = common::gpu() else { return };
-    let (mut cpu_runs, mut gpu_runs) = (Vec::new(), Vec::new());
-    for seed in 1..=SEEDS {
-        cpu_runs.push(run(&shotcrete(seed), None));
-        gpu_runs.push(run(&shotcrete(100 + seed), Some(&gpu)));
-    }
-    let metrics = |runs: &[Simulation]| runs.iter().map(Simulation::metrics).collect::<Vec<_>>();
-    let (mc, mg) = (metrics(&cpu_runs), metrics(&gpu_runs));
-    mg.iter().for_each(conserved);
-    let total = |ms: &[Metrics], f: &Figure| ms.iter().map(f).sum::<f64>();
-    let share = |ms: &[Metrics], f: &Figure| {
-        let n = total(ms, &|m| m.emitted.count as f64);
-        (total(ms, f) / n, n)
-    };
+    let (cpu, on_gpu) = both(&gpu, shotcrete);
     let cases: [(&str, &Figure); 5] = [
         ("stuck on the wall", &|m| m.targets[0].stuck.count as f64),
         ("stuck on the floor", &|m| m.targets[1].stuck.count as f64),
@@ -105,19 +138,8 @@ fn shotcrete_on_the_gpu_agrees_with_the_cpu_engine_within_statistics() {
         ("struck the bar", &|m| m.obstacles[0].hits as f64),
         ("in flight at the end", &|m| m.fates.in_flight.count as f64),
     ];
-    for (what, f) in cases {
-        same_share(what, share(&mc, f), share(&mg, f));
-    }
-    let per_seed = |runs: &[Simulation], k: usize| runs.iter().map(|s| moments(s)[k]).collect::<Vec<_>>();
-    // Cells are 10 mm: the GPU's f32 and flat-layer contact move a centroid by far less.
-    for (k, what, floor) in [
-        (0, "layer volume", 0.0),
-        (1, "centroid across", 1e-3),
-        (2, "centroid up", 1e-3),
-        (3, "radius of gyration", 1e-3),
-    ] {
-        same_mean(what, &per_seed(&cpu_runs, k), &per_seed(&gpu_runs, k), floor);
-    }
+    same_shares(&cases, &cpu, &on_gpu, 0.0);
+    same_moments(&LAYER_MOMENTS, &cpu, &on_gpu);
 }
 
 #[test]
@@ -268,28 +290,14 @@ fn shotcrete_onto_a_turned_box_rebounds_on_the_gpu_as_on_the_cpu() {
         );
         scenario(&text, "shotcrete onto a box")
     };
-    let (mut cpu, mut gpu_metrics) = (Vec::new(), Vec::new());
-    for seed in 1..=SEEDS {
-        cpu.push(run(&scene(seed), None).metrics());
-        let m = run(&scene(100 + seed), Some(&gpu)).metrics();
-        conserved(&m);
-        gpu_metrics.push(m);
-    }
-    let share = |ms: &[Metrics], f: &Figure| {
-        let n: f64 = ms.iter().map(|m| m.emitted.count as f64).sum();
-        (ms.iter().map(f).sum::<f64>() / n, n)
-    };
+    let (cpu, on_gpu) = both(&gpu, scene);
     // (Rebounds take longer than the run to fall to the floor.)
     let cases: [(&str, &Figure); 3] = [
         ("stuck on the block", &|m| m.obstacles[0].stuck.count as f64),
         ("stuck on the wall", &|m| m.targets[0].stuck.count as f64),
         ("in flight at the end", &|m| m.fates.in_flight.count as f64),
     ];
-    for (what, f) in cases {
-        let (c, g) = (share(&cpu, f), share(&gpu_metrics, f));
-        assert!(c.0 > 0.005, "{what}: {:.4} on the CPU, too few to test", c.0);
-        same_share(what, c, g);
-    }
+    same_shares(&cases, &cpu, &on_gpu, 0.005);
 }
 
 #[test]
@@ -307,11 +315,7 @@ fn shotcrete_through_a_window_and_beside_it_agrees_with_the_cpu_engine() {
         );
         scenario(&text, "shotcrete through a window")
     };
-    let (mut cpu, mut gpu_runs) = (Vec::new(), Vec::new());
-    for seed in 1..=SEEDS {
-        cpu.push(run(&scene(seed), None));
-        gpu_runs.push(run(&scene(100 + seed), Some(&gpu)));
-    }
+    let (cpu, gpu_runs) = both(&gpu, scene);
     // The wall's cells in the window hold nothing; the solid cells within two cells of its edge
     // hold the layer beside it.
     let Surface::Rectangle(r) = &cpu[0].targets()[0].surface else { panic!("the wall is a rectangle") };
@@ -334,29 +338,14 @@ fn shotcrete_through_a_window_and_beside_it_agrees_with_the_cpu_engine() {
     };
     let (rim_cpu, rim_gpu): (Vec<f64>, Vec<f64>) =
         (cpu.iter().map(rim_mean).collect(), gpu_runs.iter().map(rim_mean).collect());
-    let metrics = |runs: &[Simulation]| runs.iter().map(Simulation::metrics).collect::<Vec<_>>();
-    let (mc, mg) = (metrics(&cpu), metrics(&gpu_runs));
-    mg.iter().for_each(conserved);
-    let share = |ms: &[Metrics], f: &Figure| {
-        let n: f64 = ms.iter().map(|m| m.emitted.count as f64).sum();
-        (ms.iter().map(f).sum::<f64>() / n, n)
-    };
     let cases: [(&str, &Figure); 4] = [
         ("stuck on the wall", &|m| m.targets[0].stuck.count as f64),
         ("through the window, onto the backstop", &|m| m.targets[2].stuck.count as f64),
         ("bounced at first impact", &|m| m.bounce_ratio.unwrap_or(0.0) * m.emitted.count as f64),
         ("in flight at the end", &|m| m.fates.in_flight.count as f64),
     ];
-    for (what, f) in cases {
-        let (c, g) = (share(&mc, f), share(&mg, f));
-        assert!(c.0 > 0.02, "{what}: {:.4} on the CPU, too few to test", c.0);
-        same_share(what, c, g);
-    }
-    let per_seed = |runs: &[Simulation], k: usize| runs.iter().map(|s| moments(s)[k]).collect::<Vec<_>>();
-    for (k, what, floor) in [(0, "layer volume", 0.0), (1, "centroid across", 1e-3), (2, "centroid up", 1e-3)]
-    {
-        same_mean(what, &per_seed(&cpu, k), &per_seed(&gpu_runs, k), floor);
-    }
+    same_shares(&cases, &cpu, &gpu_runs, 0.02);
+    same_moments(&LAYER_MOMENTS[..3], &cpu, &gpu_runs);
     same_mean("mean thickness beside the window", &rim_cpu, &rim_gpu, 0.0);
 }
 
@@ -374,13 +363,9 @@ fn blasting_wears_the_coat_and_the_steel_on_the_gpu_as_on_the_cpu() {
         );
         scenario(&text, "blasting")
     };
-    let (mut cpu, mut gpu_runs) = (Vec::new(), Vec::new());
-    for seed in 1..=SEEDS {
-        cpu.push(run(&scene(seed), None).metrics());
-        let m = run(&scene(100 + seed), Some(&gpu)).metrics();
-        conserved(&m);
-        gpu_runs.push(m);
-    }
+    let (cpu, on_gpu) = both(&gpu, scene);
+    let metrics = |runs: &[Simulation]| runs.iter().map(Simulation::metrics).collect::<Vec<_>>();
+    let (cpu, gpu_runs) = (metrics(&cpu), metrics(&on_gpu));
     type Worn = fn(&spraysim_engine::metrics::ErosionStats) -> f64;
     let figures: [(&str, Worn); 4] = [
         ("mean depth removed", |e| e.mean_depth),
@@ -413,35 +398,13 @@ fn shotcrete_onto_a_tunnel_arch_agrees_with_the_cpu_engine() {
         );
         scenario(&text, "shotcrete onto an arch")
     };
-    let (mut cpu, mut gpu_runs) = (Vec::new(), Vec::new());
-    for seed in 1..=SEEDS {
-        cpu.push(run(&scene(seed), None));
-        gpu_runs.push(run(&scene(100 + seed), Some(&gpu)));
-    }
-    let metrics = |runs: &[Simulation]| runs.iter().map(Simulation::metrics).collect::<Vec<_>>();
-    let (mc, mg) = (metrics(&cpu), metrics(&gpu_runs));
-    mg.iter().for_each(conserved);
-    let share = |ms: &[Metrics], f: &Figure| {
-        let n: f64 = ms.iter().map(|m| m.emitted.count as f64).sum();
-        (ms.iter().map(f).sum::<f64>() / n, n)
-    };
+    let (cpu, on_gpu) = both(&gpu, scene);
     let cases: [(&str, &Figure); 3] = [
         ("stuck on the arch", &|m| m.targets[0].stuck.count as f64),
         ("bounced at first impact", &|m| m.bounce_ratio.unwrap_or(0.0) * m.emitted.count as f64),
         ("in flight at the end", &|m| m.fates.in_flight.count as f64),
     ];
-    for (what, f) in cases {
-        let (c, g) = (share(&mc, f), share(&mg, f));
-        assert!(c.0 > 0.02, "{what}: {:.4} on the CPU, too few to test", c.0);
-        same_share(what, c, g);
-    }
-    let per_seed = |runs: &[Simulation], k: usize| runs.iter().map(|s| moments(s)[k]).collect::<Vec<_>>();
-    for (k, what, floor) in [
-        (0, "layer volume", 0.0),
-        (1, "centroid along the arc", 1e-3),
-        (2, "centroid along the axis", 1e-3),
-        (3, "radius of gyration", 1e-3),
-    ] {
-        same_mean(what, &per_seed(&cpu, k), &per_seed(&gpu_runs, k), floor);
-    }
+    same_shares(&cases, &cpu, &on_gpu, 0.02);
+    // Across: along the arc; up: along the axis.
+    same_moments(&LAYER_MOMENTS, &cpu, &on_gpu);
 }

@@ -3,11 +3,11 @@
 
 use crate::exclusive::Turn;
 use crate::simulation::{PySimulation, State};
-use crate::work::SLICE;
+use crate::work;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use spraysim::Simulation;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 /// Advances each simulation of `sims` by `n` steps (1 when None; fewer where its run ends),
 /// together: each on a thread of its own, the calls of those on the GPU flown in shared
@@ -32,19 +32,6 @@ pub fn step_together(
     }
     let mut refs: Vec<&mut Simulation> = turns.iter_mut().flatten().map(|t| &mut t.held.sim).collect();
     let stop = AtomicBool::new(false);
-    std::thread::scope(|scope| {
-        let stop = &stop;
-        let stepping = scope.spawn(move || spraysim::backend::step_together(&mut refs, n, stop));
-        // This thread, attached every slice, lets signal handlers run.
-        while !stepping.is_finished() {
-            py.detach(|| std::thread::sleep(SLICE));
-            if let Err(e) = py.check_signals() {
-                stop.store(true, Ordering::Relaxed);
-                let _ = stepping.join();
-                return Err(e);
-            }
-        }
-        let stepped = stepping.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-        stepped.map_err(|e| PyRuntimeError::new_err(format!("step_together: {e}")))
-    })
+    let stepped = work::watched(py, &stop, || spraysim::backend::step_together(&mut refs, n, &stop))?;
+    stepped.map_err(|e| PyRuntimeError::new_err(format!("step_together: {e}")))
 }

@@ -148,28 +148,34 @@ pub fn run_batches<R: Send>(
             }
         }
         let stop = AtomicBool::new(false);
-        let results = std::thread::scope(|scope| {
-            let (stop, finish, indices) = (&stop, &finish, &indices);
-            let batch = scope.spawn(move || {
-                spraysim::backend::run_together(sims, stop)
-                    .map(|done| done.iter().zip(indices).map(|(sim, &i)| finish(i, sim)).collect::<Vec<R>>())
-            });
-            while !batch.is_finished() {
-                py.detach(|| std::thread::sleep(SLICE));
-                if let Err(e) = py.check_signals() {
-                    stop.store(true, Ordering::Relaxed);
-                    let _ = batch.join();
-                    return Err(e);
-                }
-            }
-            let finished = batch.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-            finished.map_err(|e| PyRuntimeError::new_err(format!("backend \"gpu\": {e}")))
+        let finished = watched(py, &stop, || {
+            spraysim::backend::run_together(sims, &stop)
+                .map(|done| done.iter().zip(&indices).map(|(sim, &i)| finish(i, sim)).collect::<Vec<R>>())
         })?;
+        let results = finished.map_err(|e| PyRuntimeError::new_err(format!("backend \"gpu\": {e}")))?;
         for (index, result) in indices.into_iter().zip(results) {
             deliver(index, Ok(result))?;
         }
     }
     Ok(())
+}
+
+/// Runs `op` on a thread of its own and waits for it, attached every [`SLICE`] so that signal
+/// handlers run; on a signal's error, sets `stop` (which `op` must heed, returning soon after),
+/// waits for `op` and raises it.
+pub fn watched<R: Send>(py: Python<'_>, stop: &AtomicBool, op: impl FnOnce() -> R + Send) -> PyResult<R> {
+    std::thread::scope(|scope| {
+        let worker = scope.spawn(op);
+        while !worker.is_finished() {
+            py.detach(|| std::thread::sleep(SLICE));
+            if let Err(e) = py.check_signals() {
+                stop.store(true, Ordering::Relaxed);
+                let _ = worker.join();
+                return Err(e);
+            }
+        }
+        Ok(worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+    })
 }
 
 /// The configs still to run, with their indices.
