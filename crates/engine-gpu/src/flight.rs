@@ -7,7 +7,7 @@
 use crate::GpuError;
 use crate::device::{Gpu, GpuOptions};
 use crate::dispatch::{self, Buffers, Kernels, Layers, MemberCall, Timing};
-use crate::pack::{self, BYTES_PER_SLOT, GpuParticle, Place};
+use crate::pack::{self, BYTES_PER_SLOT, GpuParticle, Place, WORKGROUP};
 use crate::report::report;
 use crate::scope;
 use rayon::prelude::*;
@@ -145,10 +145,13 @@ impl GpuFlight {
         }
     }
 
-    /// Particle slots one dispatch holds at most (one binding's worth).
+    /// Particle slots one dispatch holds at most: one binding's worth, less the workgroup of
+    /// padding a member's slots may take.
     pub(crate) fn slots_per_dispatch(&self) -> usize {
         let limit = self.gpu.device.limits().max_storage_buffer_binding_size;
-        usize::try_from(limit / BYTES_PER_SLOT as u64).unwrap_or(usize::MAX)
+        usize::try_from(limit / BYTES_PER_SLOT as u64)
+            .unwrap_or(usize::MAX)
+            .saturating_sub(WORKGROUP as usize)
     }
 
     /// Runs `job` on the GPU, as a dispatch of one member.

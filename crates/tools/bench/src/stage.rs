@@ -176,19 +176,7 @@ pub fn run_stage_rows(
         )?;
         profile(stage, out)?;
     }
-    // Batches: every scene's calls in shared dispatches (batches whose grids fit one binding,
-    // side by side).
-    for count in [16, 64] {
-        let (wall, emitted) = batch_of(&reference, count, together)?;
-        let rate = emitted as f64 / wall;
-        writeln!(
-            out,
-            "| reference, {count} scenes together | {wall:.4} | {rate:.3e} | {:.1} | {:.2} | — | — |",
-            rate / paper,
-            rate / cpu.particles_per_second(),
-        )?;
-        profile(&on, out)?;
-    }
+    batch_rows(&reference, together, (paper, cpu.particles_per_second()), &on, out)?;
     timed.take();
     let raster = measure_on(&raster_pass(1e5)?, all, Some(&on))?;
     let (inside, calls) = timed.take();
@@ -218,5 +206,29 @@ pub fn run_stage_rows(
     let per_second = variants as f64 / start.elapsed().as_secs_f64();
     writeln!(out, "{variants} short variants in batches of 64 run together: {per_second:.1} per second")?;
     profile(&on, out)?;
+    Ok(())
+}
+
+/// The rows of the reference scene in batches of 16 and 64 run `together` (every scene's calls
+/// in shared dispatches; batches whose grids fit one binding, side by side), against the
+/// paper's and the CPU's particles/s (`rates`), each with the stage's profile.
+fn batch_rows(
+    reference: &spraysim_scenario::Scenario,
+    together: Together<'_>,
+    (paper, cpu): (f64, f64),
+    stage: &Arc<dyn FlightStage>,
+    out: &mut impl std::io::Write,
+) -> Result<(), BenchError> {
+    for count in [16, 64] {
+        let (wall, emitted) = batch_of(reference, count, together)?;
+        let rate = emitted as f64 / wall;
+        writeln!(
+            out,
+            "| reference, {count} scenes together | {wall:.4} | {rate:.3e} | {:.1} | {:.2} | — | — |",
+            rate / paper,
+            rate / cpu,
+        )?;
+        profile(stage, out)?;
+    }
     Ok(())
 }
