@@ -141,7 +141,13 @@ impl GpuBatch {
         for (_, group) in groups {
             let (ids, calls): (Vec<usize>, Vec<MemberCall>) = group.into_iter().unzip();
             let (flight, buffers) = (&self.flight, &mut state.buffers);
-            match dispatch::dispatch(&flight.gpu, &flight.kernels, buffers, self.cells, &calls) {
+            // A panic (a device error wgpu raises so) answers every member of the dispatch with
+            // an error, rather than leave them waiting for an answer that never comes.
+            let dispatched = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                dispatch::dispatch(&flight.gpu, &flight.kernels, buffers, self.cells, &calls)
+            }))
+            .unwrap_or_else(|_| Err(GpuError::Device("the dispatch failed (a panic)".into())));
+            match dispatched {
                 Ok((raw, timing)) => {
                     let particles = calls.iter().map(|c| c.slots.len()).sum();
                     flight.note(calls[0].epochs.len(), particles, timing);
@@ -217,14 +223,24 @@ impl FlightStage for BatchMember {
     }
 
     fn particles_per_call(&self) -> usize {
-        // A share of one dispatch's slots, less a workgroup of padding.
-        (self.batch.flight.slots_per_dispatch() / self.batch.regions.len().max(1))
-            .saturating_sub(WORKGROUP as usize)
-            .max(1)
+        // As alone, so that a run's calls end where they would alone (the GPU's bits depend on
+        // it): members whose calls do not fit one dispatch together fly in several.
+        self.batch.flight.slots_per_dispatch()
     }
 
     fn profile(&self) -> Option<String> {
         self.batch.flight.profile()
+    }
+}
+
+/// Leaves its member's batch when dropped.
+struct Leaving(Option<Arc<BatchMember>>);
+
+impl Drop for Leaving {
+    fn drop(&mut self) {
+        if let Some(member) = &self.0 {
+            member.leave();
+        }
     }
 }
 
@@ -285,10 +301,10 @@ fn together<S: BorrowMut<Simulation> + Send>(
             .enumerate()
             .map(|(k, (mut sim, member))| {
                 scope.spawn(move || {
+                    // Leaves the batch however the thread ends (a panic included), so that the
+                    // others do not wait for it.
+                    let _leaving = Leaving(member);
                     while !stop.load(Ordering::Relaxed) && advance(k, sim.borrow_mut()) {}
-                    if let Some(m) = member {
-                        m.leave();
-                    }
                     sim
                 })
             })
@@ -301,7 +317,8 @@ fn together<S: BorrowMut<Simulation> + Send>(
 /// their calls flown in shared dispatches on `flight` (see [`GpuBatch`]; a set whose grids
 /// outgrow one binding of cells is split into batches that run side by side), and returns
 /// `done(k, sim)` of each in their order. Each stops early, after the call under way, once
-/// `stop` is set. Each one's results equal its run alone.
+/// `stop` is set, and is handed to `done` with `flight` as its stage. Each one's results equal
+/// its run alone.
 pub fn run_together<T: Send>(
     flight: &Arc<GpuFlight>,
     mut sims: Vec<Simulation>,
@@ -317,7 +334,15 @@ pub fn run_together<T: Send>(
         }
         !sim.is_finished()
     })?;
-    Ok(finished.into_iter().enumerate().map(|(k, sim)| done(k, sim)).collect())
+    // Handed back on `flight` alone: one stopped early goes on as a single run.
+    Ok(finished
+        .into_iter()
+        .enumerate()
+        .map(|(k, mut sim)| {
+            sim.set_flight_stage(Some(flight.clone()));
+            done(k, sim)
+        })
+        .collect())
 }
 
 /// Advances each of `sims` by `steps` steps (or to its run's end), together: each on a thread

@@ -183,7 +183,9 @@ pub(crate) fn dispatch(
     let padded: Vec<u32> =
         members.iter().map(|m| (m.slots.len() as u32).next_multiple_of(WORKGROUP)).collect();
     let slots: u64 = padded.iter().map(|&n| u64::from(n)).sum();
-    if 16 * (u64::from(cells) + 1) > limit || BYTES_PER_SLOT as u64 * slots > limit {
+    // The cells' counters take 16 bytes a cell, their wear 32 where a target erodes.
+    let per_cell = if members.iter().any(|m| m.scene.erodes) { 32 } else { 16 };
+    if per_cell * (u64::from(cells) + 1) > limit || BYTES_PER_SLOT as u64 * slots > limit {
         return Err(GpuError::TooLarge(format!(
             "{cells} cells or {slots} particle slots in one call (one binding holds at most {limit} bytes)"
         )));

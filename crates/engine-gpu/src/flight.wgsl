@@ -801,7 +801,8 @@ fn shell_local(at: u32, p: vec3<f32>) -> vec4<f32> {
     if (mid > 3.1415927) {
         mid -= 6.2831853;
     }
-    let covered = rel <= span && abs(z) <= f(at + 13u);
+    // A whole turn covers every angle, whatever f32 makes of its span.
+    let covered = (scene[at + 31u] != 0u || rel <= span) && abs(z) <= f(at + 13u);
     return vec4<f32>(sense * radius * mid, z, sense * (radius - r), select(0.0, 1.0, covered));
 }
 
@@ -845,8 +846,9 @@ fn shell_level(at: u32, p0: vec3<f32>, p1: vec3<f32>, level: f32, down: bool) ->
 }
 
 // The first hit of a segment that starts on the side sprayed of shell t (at `at`): its layer
-// (`layer_crossing`), or the bare surface; an opening lets a bare crossing pass.
-fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
+// (`layer_crossing`), or the bare surface (alone where not `layered`: a step that started
+// behind the surface meets no layer, as on the CPU); an opening lets a bare crossing pass.
+fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>, layered: bool) -> Hit {
     let top = band(t);
     let h0 = shell_local(at, p0).z;
     var own = 0.0;
@@ -855,7 +857,7 @@ fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     }
     var s = NONE;
     var bare = true;
-    if (h0 <= own) {
+    if (h0 <= own || !layered) {
         // Inside the layer: within one step it meets only the bare surface.
         s = shell_level(at, p0, p1, 0.0, true);
     } else {
@@ -893,7 +895,7 @@ fn shell_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     let h0 = shell_local(at, p0).z;
     var passed = 0.0;
     if (h0 > 0.0) {
-        let front = shell_front(t, at, p0, p1);
+        let front = shell_front(t, at, p0, p1, true);
         if (front.t <= 1.0) {
             return front;
         }
@@ -915,8 +917,8 @@ fn shell_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     if (h0 > 0.0) {
         return no_hit();
     }
-    // Past the edge from behind, onto the side sprayed.
-    let rest = shell_front(t, at, q, p1);
+    // Past the edge from behind, onto the side sprayed: its bare surface alone within the step.
+    let rest = shell_front(t, at, q, p1, false);
     if (rest.t > 1.0) {
         return no_hit();
     }
