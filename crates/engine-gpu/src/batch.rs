@@ -14,9 +14,9 @@
 //! in a batch as alone. [`run_together`] runs a set of simulations so.
 
 use crate::GpuError;
-use crate::dispatch::{self, Buffers, Layers, MemberCall, Raw};
+use crate::dispatch::{self, Buffers, MemberCall, Raw};
 use crate::flight::{self, GpuFlight};
-use crate::pack::{self, WORKGROUP};
+use crate::pack::WORKGROUP;
 use crate::report::report;
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::{DepositSurface, Surface};
@@ -60,8 +60,8 @@ pub struct BatchMember {
     batch: Arc<GpuBatch>,
     id: usize,
     /// The identity of each of its targets' layers, with its first cell, as the batch's copy
-    /// holds them (empty: nothing known).
-    mirror: Mutex<Vec<(u64, u32)>>,
+    /// holds them (None: nothing known).
+    mirror: Mutex<Option<Vec<(u64, u32)>>>,
     left: AtomicBool,
 }
 
@@ -91,7 +91,7 @@ impl GpuBatch {
                 Arc::new(BatchMember {
                     batch: batch.clone(),
                     id,
-                    mirror: Mutex::new(Vec::new()),
+                    mirror: Mutex::new(None),
                     left: AtomicBool::new(false),
                 })
             })
@@ -187,14 +187,11 @@ impl BatchMember {
         let (mut call, layout) = flight::lay_out(job)?;
         call.cell = self.batch.regions[self.id];
         let mut mirror = self.mirror.lock().unwrap_or_else(PoisonError::into_inner);
-        // Only this member writes its region of the batch's layers.
-        let current = *mirror == layout && job.revised.iter().all(Option::is_some);
-        call.layers =
-            if current { flight::spans(job, &call.scene) } else { Layers::Whole(pack::thicknesses(job)) };
-        // Forgotten until the call succeeds, as for a single run.
-        mirror.clear();
+        // Only this member writes its region of the batch's layers; what it holds is forgotten
+        // until the call succeeds, as for a single run.
+        call.layers = flight::layers(job, &call.scene, mirror.take().as_deref(), &layout);
         let (raw, call) = self.batch.submit(self.id, call).map_err(GpuError::Device)?;
-        *mirror = layout;
+        *mirror = Some(layout);
         drop(mirror);
         let reported = Instant::now();
         let out = report(job, &call.scene, &raw);
@@ -267,16 +264,15 @@ fn together<S: BorrowMut<Simulation> + Send>(
     advance: impl Fn(usize, &mut Simulation) -> bool + Sync,
 ) -> Result<Vec<S>, GpuError> {
     let limit = flight.gpu.device.limits().max_storage_buffer_binding_size;
-    let per_cell =
-        |sim: &Simulation| if sim.config().targets.iter().any(|t| t.erosion.is_some()) { 32 } else { 16 };
     let on_gpu: Vec<usize> = (0..sims.len()).filter(|&k| sims[k].borrow().flight_stage().is_some()).collect();
     let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
     let mut start = 0;
     while start < on_gpu.len() {
-        let (mut end, mut cells, mut widest) = (start, 0, 16);
+        let (mut end, mut cells, mut widest) = (start, 0, dispatch::bytes_per_cell(false));
         while end < on_gpu.len() {
             let sim = sims[on_gpu[end]].borrow();
-            let (more, wide) = (cells + grid_cells(sim), per_cell(sim).max(widest));
+            let erodes = sim.config().targets.iter().any(|t| t.erosion.is_some());
+            let (more, wide) = (cells + grid_cells(sim), dispatch::bytes_per_cell(erodes).max(widest));
             if end > start && (more + 1) * wide > limit {
                 break;
             }
@@ -361,10 +357,8 @@ pub fn step_together(
         sims.iter().map(|s| s.steps_done().saturating_add(steps).min(s.total_steps())).collect();
     let borrowed: Vec<&mut Simulation> = sims.iter_mut().map(|s| &mut **s).collect();
     together(flight, borrowed, stop, |k, sim| {
-        let left = goals[k].saturating_sub(sim.steps_done());
-        if left > 0 {
-            sim.advance_call(sim.steps_to_call_end().min(left));
-        }
+        // A call ends by itself at its epoch's (or its stage's) end.
+        sim.advance_call(goals[k].saturating_sub(sim.steps_done()));
         sim.steps_done() < goals[k]
     })?;
     for (sim, stage) in sims.iter_mut().zip(stages) {

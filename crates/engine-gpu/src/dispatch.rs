@@ -154,6 +154,12 @@ pub(crate) struct Timing {
     pub cells: f64,
 }
 
+/// Bytes a cell of the layers takes in the largest binding of a dispatch: its counters (16), or
+/// its wear (32) where a target `erodes`.
+pub(crate) fn bytes_per_cell(erodes: bool) -> u64 {
+    if erodes { 32 } else { 16 }
+}
+
 /// Counter words of a member with `targets` targets and `obstacles` obstacles.
 pub(crate) fn counter_words(targets: usize, obstacles: usize) -> usize {
     TALLY_WORDS + TARGET_COUNTER_WORDS * targets + OBSTACLE_COUNTER_WORDS * obstacles
@@ -183,8 +189,7 @@ pub(crate) fn dispatch(
     let padded: Vec<u32> =
         members.iter().map(|m| (m.slots.len() as u32).next_multiple_of(WORKGROUP)).collect();
     let slots: u64 = padded.iter().map(|&n| u64::from(n)).sum();
-    // The cells' counters take 16 bytes a cell, their wear 32 where a target erodes.
-    let per_cell = if members.iter().any(|m| m.scene.erodes) { 32 } else { 16 };
+    let per_cell = bytes_per_cell(members.iter().any(|m| m.scene.erodes));
     if per_cell * (u64::from(cells) + 1) > limit || BYTES_PER_SLOT as u64 * slots > limit {
         return Err(GpuError::TooLarge(format!(
             "{cells} cells or {slots} particle slots in one call (one binding holds at most {limit} bytes)"

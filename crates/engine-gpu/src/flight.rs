@@ -32,8 +32,8 @@ pub struct GpuFlight {
 struct Single {
     buffers: Buffers,
     /// Per target, the identity of the layer the GPU's copy holds and its first cell there
-    /// (empty: the copy holds nothing known).
-    mirror: Vec<(u64, u32)>,
+    /// (None: the copy holds nothing known).
+    mirror: Option<Vec<(u64, u32)>>,
 }
 
 /// Where the calls' time went, s, summed over the calls since the last
@@ -163,15 +163,12 @@ impl GpuFlight {
         let mut s = self.state.lock().map_err(|_| poisoned())?;
         // Forgotten until the call succeeds: a call that fails, or is refused, loses the layers'
         // changes the engine handed it.
-        let held = std::mem::take(&mut s.mirror);
-        let current = s.buffers.layer_cells == Some(call.scene.cells)
-            && held == layout
-            && job.revised.iter().all(Option::is_some);
-        call.layers = if current { spans(job, &call.scene) } else { Layers::Whole(pack::thicknesses(job)) };
+        let held = s.mirror.take().filter(|_| s.buffers.layer_cells == Some(call.scene.cells));
+        call.layers = layers(job, &call.scene, held.as_deref(), &layout);
         let calls = std::slice::from_ref(&call);
         let (raw, timing) =
             dispatch::dispatch(&self.gpu, &self.kernels, &mut s.buffers, call.scene.cells, calls)?;
-        s.mirror = layout;
+        s.mirror = Some(layout);
         drop(s);
         let reported = Instant::now();
         let out = report(job, &call.scene, &raw[0]);
@@ -217,9 +214,19 @@ pub(crate) fn lay_out(job: &FlightJob<'_>) -> Result<(MemberCall, Vec<(u64, u32)
     Ok((call, layout))
 }
 
-/// The spans of `job`'s layers that changed since the GPU's copy was made, each from its first
-/// cell over the member's grids.
-pub(crate) fn spans(job: &FlightJob<'_>, scene: &pack::SceneWords) -> Layers {
+/// How `job`'s layers (laid out as `scene`, their identities and first cells `layout`) reach a
+/// GPU copy that holds the layers `held` (None: nothing known): only the spans that changed
+/// since it was made, each from its first cell over the member's grids, where it holds these
+/// very layers and the engine kept track of every change; else whole.
+pub(crate) fn layers(
+    job: &FlightJob<'_>,
+    scene: &pack::SceneWords,
+    held: Option<&[(u64, u32)]>,
+    layout: &[(u64, u32)],
+) -> Layers {
+    if held != Some(layout) || job.revised.iter().any(Option::is_none) {
+        return Layers::Whole(pack::thicknesses(job));
+    }
     let mut out = Vec::new();
     for ((target, revised), &first) in job.targets.iter().zip(job.revised).zip(&scene.first_cells) {
         let Some((_, changed)) = revised else { continue };

@@ -156,8 +156,8 @@ fn step_on_cpu(sims: &mut [&mut Simulation], steps: u64, stop: &std::sync::atomi
     for sim in sims.iter_mut() {
         let goal = sim.steps_done().saturating_add(steps).min(sim.total_steps());
         while sim.steps_done() < goal && !stop.load(std::sync::atomic::Ordering::Relaxed) {
-            let left = goal - sim.steps_done();
-            sim.advance_call(sim.steps_to_call_end().min(left));
+            // A call ends by itself at its epoch's (or its stage's) end.
+            sim.advance_call(goal - sim.steps_done());
         }
     }
 }
