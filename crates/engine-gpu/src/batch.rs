@@ -16,7 +16,6 @@
 use crate::GpuError;
 use crate::dispatch::{self, Buffers, MemberCall, Raw};
 use crate::flight::{self, GpuFlight};
-use crate::pack::WORKGROUP;
 use crate::report::report;
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::{DepositSurface, Surface};
@@ -126,7 +125,7 @@ impl GpuBatch {
         let room = self.flight.slots_per_dispatch();
         let mut groups: Vec<(usize, Vec<(usize, MemberCall)>)> = Vec::new();
         for (id, call) in waiting {
-            let slots = call.slots.len().next_multiple_of(WORKGROUP as usize);
+            let slots = call.padded_slots() as usize;
             let fits = |g: &&mut (usize, Vec<(usize, MemberCall)>)| {
                 g.1[0].1.epochs == call.epochs && g.0 + slots <= room
             };
@@ -149,7 +148,7 @@ impl GpuBatch {
             .unwrap_or_else(|_| Err(GpuError::Device("the dispatch failed (a panic)".into())));
             match dispatched {
                 Ok((raw, timing)) => {
-                    let particles = calls.iter().map(|c| c.slots.len()).sum();
+                    let particles = calls.iter().map(|c| c.slots.len() + c.scene.births[3] as usize).sum();
                     flight.note(calls[0].epochs.len(), particles, timing);
                     for ((id, raw), call) in ids.into_iter().zip(raw).zip(calls) {
                         state.answers[id] = Some(Ok((raw, call)));

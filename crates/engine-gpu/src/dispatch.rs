@@ -1,8 +1,8 @@
 //! One submission of the kernels over the members of a batch (one simulation's call each; one
 //! member for a single run): the members' words, particles, layers and counters laid out one
-//! after the other, `restore`, then per epoch `fly` (one dispatch over every member's
-//! particles), `census`, `settle` and `census` again, and `gather`; then each member's part of
-//! what was read back.
+//! after the other, `restore`, `born` (the newborns sampled in their slots), then per epoch
+//! `fly` (one dispatch over every member's particles), `census`, `settle` and `census` again,
+//! and `gather`; then each member's part of what was read back.
 
 use crate::GpuError;
 use crate::device::Gpu;
@@ -13,14 +13,15 @@ use crate::pack::{
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
-/// The kernels' source.
-const SOURCE: &str = include_str!("flight.wgsl");
+/// The kernels' source: the flight, then the births, which use its bindings and helpers.
+const SOURCE: &str = concat!(include_str!("flight.wgsl"), include_str!("births.wgsl"));
 
 /// The kernels, built once per device.
 #[derive(Debug)]
 pub(crate) struct Kernels {
     layout: wgpu::BindGroupLayout,
     fly: wgpu::ComputePipeline,
+    born: wgpu::ComputePipeline,
     restore: wgpu::ComputePipeline,
     settle: wgpu::ComputePipeline,
     census: wgpu::ComputePipeline,
@@ -33,7 +34,7 @@ impl Kernels {
         let device = &gpu.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("flight.wgsl"),
+            label: Some("flight"),
             source: wgpu::ShaderSource::Wgsl(SOURCE.into()),
         });
         let entry = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
@@ -80,11 +81,11 @@ impl Kernels {
             })
         };
         let (fly, restore, settle) = (pipeline("fly"), pipeline("restore"), pipeline("settle"));
-        let (census, gather) = (pipeline("census"), pipeline("gather"));
+        let (census, gather, born) = (pipeline("census"), pipeline("gather"), pipeline("born"));
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Device(format!("the flight kernels do not build: {e}")));
         }
-        Ok(Kernels { layout, fly, restore, settle, census, gather })
+        Ok(Kernels { layout, fly, born, restore, settle, census, gather })
     }
 }
 
@@ -119,7 +120,7 @@ pub(crate) enum Layers {
 pub(crate) struct MemberCall {
     /// Its own words.
     pub scene: pack::SceneWords,
-    /// Its particles.
+    /// The particles of its swarm; its newborns (`scene.births`) take the slots after them.
     pub slots: Vec<GpuParticle>,
     /// Its words at the start of the scene, but for where it lies (filled in by `dispatch`).
     pub words: [u32; MEMBER_WORDS],
@@ -133,10 +134,17 @@ pub(crate) struct MemberCall {
     pub epochs: Vec<(u64, u64)>,
 }
 
+impl MemberCall {
+    /// Its particle slots, the swarm's and the newborns', padded to whole workgroups.
+    pub fn padded_slots(&self) -> u32 {
+        (self.slots.len() as u32 + self.scene.births[3]).next_multiple_of(WORKGROUP)
+    }
+}
+
 /// What a dispatch read back for one member.
 #[derive(Debug)]
 pub(crate) struct Raw {
-    /// Its particles as the call leaves them.
+    /// Its particles as the call leaves them, the swarm's then the newborns', in id order.
     pub slots: Vec<GpuParticle>,
     /// Its counter block.
     pub counters: Vec<u32>,
@@ -186,30 +194,22 @@ pub(crate) fn dispatch(
     }
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
     // Each member's slots fill whole workgroups.
-    let padded: Vec<u32> =
-        members.iter().map(|m| (m.slots.len() as u32).next_multiple_of(WORKGROUP)).collect();
-    let slots: u64 = padded.iter().map(|&n| u64::from(n)).sum();
+    let slots: u64 = members.iter().map(|m| u64::from(m.padded_slots())).sum();
     let per_cell = bytes_per_cell(members.iter().any(|m| m.scene.erodes));
     if per_cell * (u64::from(cells) + 1) > limit || BYTES_PER_SLOT as u64 * slots > limit {
         return Err(GpuError::TooLarge(format!(
             "{cells} cells or {slots} particle slots in one call (one binding holds at most {limit} bytes)"
         )));
     }
-    let laid = lay_out(members, &padded, cells);
+    let laid = lay_out(members, cells);
     let erodes = members.iter().any(|m| m.scene.erodes);
     let bind = upload(gpu, kernels, b, (&laid, members), (cells, erodes), &epochs)?;
     let counter_bytes = 4 * laid.counters.len() as u64;
-    let particle_bytes = (BYTES_PER_SLOT * laid.particles.len()) as u64;
+    let particle_bytes = BYTES_PER_SLOT as u64 * u64::from(laid.slots);
     let readback = grow(&gpu.device, &mut b.readback, particle_bytes + counter_bytes, READBACK);
     let uploaded = Instant::now();
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-    record(
-        &mut encoder,
-        kernels,
-        &bind,
-        (params_stride(gpu), epochs.len()),
-        (laid.particles.len() as u32, cells),
-    );
+    record(&mut encoder, kernels, &bind, (params_stride(gpu), epochs.len()), (laid.slots, cells));
     encoder.copy_buffer_to_buffer(some(&b.particles)?, 0, &readback, 0, particle_bytes);
     encoder.copy_buffer_to_buffer(some(&b.counters)?, 0, &readback, particle_bytes, counter_bytes);
     gpu.queue.submit([encoder.finish()]);
@@ -248,8 +248,12 @@ fn upload(
 ) -> Result<wgpu::BindGroup, GpuError> {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
-    let particles = grow(device, &mut b.particles, (BYTES_PER_SLOT * laid.particles.len()) as u64, storage);
-    queue.write_buffer(&particles, 0, bytemuck::cast_slice(&laid.particles));
+    // Each member's swarm; `born` fills the slots after it.
+    let particles = grow(device, &mut b.particles, BYTES_PER_SLOT as u64 * u64::from(laid.slots), storage);
+    for (m, place) in members.iter().zip(&laid.places) {
+        let at = BYTES_PER_SLOT as u64 * u64::from(place.slot);
+        queue.write_buffer(&particles, at, bytemuck::cast_slice(&m.slots));
+    }
     let scene = grow(device, &mut b.scene, 4 * laid.words.len() as u64, storage);
     queue.write_buffer(&scene, 0, bytemuck::cast_slice(&laid.words));
     let half = u64::from(cells) + 1;
@@ -279,7 +283,7 @@ fn upload(
     let stride = params_stride(gpu) as usize;
     let mut bytes = vec![0u8; stride * epochs.len()];
     for (k, &range) in epochs.iter().enumerate() {
-        let p = pack::params(range, laid.particles.len() as u32, sizes);
+        let p = pack::params(range, laid.slots, sizes);
         bytes[k * stride..k * stride + PARAMS_BYTES.get() as usize].copy_from_slice(bytemuck::bytes_of(&p));
     }
     let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -304,10 +308,12 @@ fn record(
     pass.set_bind_group(0, bind, &[0]);
     pass.set_pipeline(&kernels.restore);
     pass.dispatch_workgroups(grid.0, grid.1, 1);
+    let (x, y) = groups(slots);
+    pass.set_pipeline(&kernels.born);
+    pass.dispatch_workgroups(x, y, 1);
     for e in 0..epochs {
         pass.set_bind_group(0, bind, &[(e as u64 * stride) as u32]);
         pass.set_pipeline(&kernels.fly);
-        let (x, y) = groups(slots);
         pass.dispatch_workgroups(x, y, 1);
         pass.set_pipeline(&kernels.census);
         pass.dispatch_workgroups(1, 1, 1);
@@ -322,7 +328,7 @@ fn record(
     pass.dispatch_workgroups(grid.0, grid.1, 1);
 }
 
-/// Each member's part of what a dispatch read back: its particles (`flown`), its counter block
+/// Each member's part of what a dispatch read back: its particles (of `flown`), its counter block
 /// (of `words`), and the cells it listed (of `listed`, with their `wear`), counted over its
 /// own grids.
 fn split(
@@ -343,7 +349,7 @@ fn split(
             let own = &order[from(first)..from(end)];
             let (slot, counter) = (place.slot as usize, place.counters as usize);
             Raw {
-                slots: flown[slot..slot + m.slots.len()].to_vec(),
+                slots: flown[slot..slot + m.slots.len() + m.scene.births[3] as usize].to_vec(),
                 counters: words[counter..counter + m.counters.len()].to_vec(),
                 listed: own
                     .iter()
@@ -355,10 +361,11 @@ fn split(
         .collect()
 }
 
-/// A dispatch's words, particles, counters and plan, with where each member lies.
+/// A dispatch's words, particle slots, counters and plan, with where each member lies.
 struct LaidOut {
     words: Vec<u32>,
-    particles: Vec<GpuParticle>,
+    /// Particle slots of all members.
+    slots: u32,
     counters: Vec<u32>,
     plan: Vec<u32>,
     places: Vec<Place>,
@@ -366,22 +373,22 @@ struct LaidOut {
     targets: u32,
 }
 
-/// Lays `members` out one after the other (their slots padded to `padded`): the members'
-/// words, then the table of all their targets, then each member's own words; the global
-/// counters, then each member's block; the plan (no cell listed, each target's band).
-fn lay_out(members: &[MemberCall], padded: &[u32], cells: u32) -> LaidOut {
+/// Lays `members` out one after the other (their slots padded to whole workgroups): the
+/// members' words, then the table of all their targets, then each member's own words; the
+/// global counters, then each member's block; the plan (no cell listed, each target's band).
+fn lay_out(members: &[MemberCall], cells: u32) -> LaidOut {
     let targets: usize = members.iter().map(|m| m.scene.first_cells.len()).sum();
     let table = MEMBER_WORDS * members.len();
     let mut words = vec![0u32; table + TABLE_WORDS * targets];
-    let mut particles = Vec::new();
+    let mut slots = 0u32;
     let mut counters = vec![0u32; GLOBAL_COUNTER_WORDS];
     let mut plan = vec![0u32];
     let mut places = Vec::with_capacity(members.len());
-    for (m, (member, &pad)) in members.iter().zip(padded).enumerate() {
+    for (m, member) in members.iter().enumerate() {
         let scene = &member.scene;
         let place = Place {
             words: words.len() as u32,
-            slot: particles.len() as u32,
+            slot: slots,
             target: (plan.len() - 1) as u32,
             cell: member.cell,
             counters: counters.len() as u32,
@@ -397,13 +404,12 @@ fn lay_out(members: &[MemberCall], padded: &[u32], cells: u32) -> LaidOut {
         pack::place_member(&mut head, scene, place);
         words[MEMBER_WORDS * m..MEMBER_WORDS * (m + 1)].copy_from_slice(&head);
         words.extend_from_slice(&scene.words);
-        particles.extend_from_slice(&member.slots);
-        particles.resize((place.slot + pad) as usize, GpuParticle::default());
+        slots += member.padded_slots();
         counters.extend_from_slice(&member.counters);
         places.push(place);
     }
     debug_assert!(members.iter().all(|m| m.cell + m.scene.cells <= cells));
-    LaidOut { words, particles, counters, plan, places, targets: targets as u32 }
+    LaidOut { words, slots, counters, plan, places, targets: targets as u32 }
 }
 
 fn bind_group(

@@ -5,13 +5,15 @@
 //! in one.
 
 use crate::GpuError;
+use crate::births;
 use crate::device::{Gpu, GpuOptions};
-use crate::dispatch::{self, Buffers, Kernels, Layers, MemberCall, Timing};
+use crate::dispatch::{self, Buffers, Kernels, Layers, MemberCall, Raw, Timing};
 use crate::pack::{self, BYTES_PER_SLOT, GpuParticle, Place, WORKGROUP};
 use crate::report::report;
 use crate::scope;
 use rayon::prelude::*;
 use spraysim_engine::deposit::DepositSurface;
+use spraysim_engine::particles::Particle;
 use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -154,8 +156,28 @@ impl GpuFlight {
             .saturating_sub(WORKGROUP as usize)
     }
 
+    /// Flies `job` as [`FlightStage::fly`] does, and hands back beside its report every
+    /// particle of the job as the call left it, retired or not (the swarm's, then the
+    /// newborns', in id order), to check the kernels against the engine's closed forms.
+    pub fn fly_traced(&self, job: &FlightJob<'_>) -> Result<(FlightReport, Vec<Particle>), GpuError> {
+        let (call, raw) = self.dispatch_one(job)?;
+        let reported = Instant::now();
+        let out = report(job, &call.scene, &raw);
+        self.note_report(reported.elapsed().as_secs_f64());
+        Ok((out, raw.slots.iter().map(GpuParticle::particle).collect()))
+    }
+
     /// Runs `job` on the GPU, as a dispatch of one member.
     fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
+        let (call, raw) = self.dispatch_one(job)?;
+        let reported = Instant::now();
+        let out = report(job, &call.scene, &raw);
+        self.note_report(reported.elapsed().as_secs_f64());
+        Ok(out)
+    }
+
+    /// Lays `job` out and dispatches it alone; returns its call and what it read back.
+    fn dispatch_one(&self, job: &FlightJob<'_>) -> Result<(MemberCall, Raw), GpuError> {
         // Laid out before the lock is taken: the conversions run on rayon's workers, and a worker
         // that waits for them while holding the lock could take up another simulation's call,
         // which would wait for the lock on the same thread.
@@ -166,15 +188,13 @@ impl GpuFlight {
         let held = s.mirror.take().filter(|_| s.buffers.layer_cells == Some(call.scene.cells));
         call.layers = layers(job, &call.scene, held.as_deref(), &layout);
         let calls = std::slice::from_ref(&call);
-        let (raw, timing) =
+        let (mut raw, timing) =
             dispatch::dispatch(&self.gpu, &self.kernels, &mut s.buffers, call.scene.cells, calls)?;
         s.mirror = Some(layout);
         drop(s);
-        let reported = Instant::now();
-        let out = report(job, &call.scene, &raw[0]);
-        self.note(call.epochs.len(), call.slots.len(), timing);
-        self.note_report(reported.elapsed().as_secs_f64());
-        Ok(out)
+        self.note(call.epochs.len(), call.slots.len() + call.scene.births[3] as usize, timing);
+        let raw = raw.pop().ok_or_else(|| GpuError::Readback("no member read back".into()))?;
+        Ok((call, raw))
     }
 }
 
@@ -186,16 +206,14 @@ fn poisoned() -> GpuError {
 /// spans), and the identity of each of its targets' layers with its first cell.
 pub(crate) fn lay_out(job: &FlightJob<'_>) -> Result<(MemberCall, Vec<(u64, u32)>), GpuError> {
     scope::check(job.config)?;
-    let scene = pack::scene_words(job);
-    let nozzle = job
-        .particles
-        .iter()
-        .zip(job.quanta)
-        .find(|(p, _)| p.flags() & spraysim_engine::particles::flags::RELEASED == 0)
-        .map_or(0, |(_, &q)| q);
-    let nozzle =
-        u32::try_from(nozzle).map_err(|_| GpuError::TooLarge("a nozzle particle's quanta".into()))?;
+    let mut scene = pack::scene_words(job);
+    let nozzle = u32::try_from(job.nozzle_quanta)
+        .map_err(|_| GpuError::TooLarge("a nozzle particle's quanta".into()))?;
     let slots: Vec<GpuParticle> = job.particles.par_iter().map(|p| GpuParticle::of(p, job)).collect();
+    // The births after the scene's own words; the newborns are sampled on the GPU.
+    let born = births::words(job)?;
+    scene.births = [scene.words.len() as u32, born.batches, slots.len() as u32, born.newborns];
+    scene.words.extend(born.words);
     let counters = pack::counters(
         &scene,
         job.targets.len(),

@@ -2,10 +2,10 @@
 // one), against the layers as they stood at the epoch's start: the GPU twin of the engine's
 // `pipeline/kernel.rs`, in f32, with every surface tested in every step. A dispatch covers
 // every member of a batch (one simulation's call each, with its own parameters, scene, layers
-// and counters; one member for a single run). A call dispatches
-// `restore` (the layers as the call finds them), then, per epoch, `fly` (its steps in the
-// parameters at the epoch's dynamic offset), `census`, `settle` (the layers brought up to date
-// with what the call has deposited so far) and `census` again, and `gather` to end. `census`
+// and counters; one member for a single run). A call dispatches `restore` (the layers as the
+// call finds them), `born` (its newborns, `births.wgsl`), then, per epoch, `fly` (its steps in
+// the parameters at the epoch's dynamic offset), `census`, `settle` (the layers brought up to
+// date with what the call has deposited so far) and `census` again, and `gather` to end. `census`
 // copies the few counters that many invocations read into plain words (`plan`): an atomic load
 // of one word by every invocation is serialised, and would cost more than the flight.
 //
@@ -30,6 +30,7 @@ struct Member {
     sizes: vec4<u32>,      // targets, obstacle shapes, released particles, a nozzle particle's quanta
     tables: vec4<u32>,     // word offsets of its own words (its models first), targets, shapes, released table
     place: vec4<u32>,      // its first particle slot, first target over all members, first cell, counter words
+    births: vec4<u32>,     // offset of its emitter's words (its batches of births after them), batches, slots of its swarm, newborns
 }
 
 // 36 bytes a slot: position (m), velocity (m/s), birth step, id, impacts (low 12 bits) and
@@ -64,7 +65,7 @@ struct Particle {
 // The member the invocation flies a particle of.
 var<private> M: Member;
 
-const MEMBER_WORDS: u32 = 28u;
+const MEMBER_WORDS: u32 = 32u;
 // Words of each target in the table of all members' targets (after the members' words): its
 // first cell over all grids, a quantum's thickness on one of its cells (f32 bits), the counter
 // word that holds its band, and a spare.
@@ -149,7 +150,9 @@ fn f4(at: u32) -> vec4<f32> {
 // Reads member m into `M`.
 fn load_member(m: u32) {
     let at = MEMBER_WORDS * m;
-    M = Member(f4(at), f4(at + 4u), f4(at + 8u), u4(at + 12u), u4(at + 16u), u4(at + 20u), u4(at + 24u));
+    M = Member(
+        f4(at), f4(at + 4u), f4(at + 8u), u4(at + 12u), u4(at + 16u), u4(at + 20u), u4(at + 24u), u4(at + 28u),
+    );
 }
 
 // The member whose particle slots hold slot i: the last whose first slot is not past it.
@@ -326,6 +329,7 @@ struct Hit {
 const NONE: f32 = 2.0;
 const OBSTACLE: u32 = 0x10000u;
 const NO_CELL: u32 = 0xffffffffu;
+const NO_SLOT: u32 = 0xffffffffu;
 
 fn no_hit() -> Hit {
     return Hit(NONE, vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), 0u, NO_CELL);
@@ -1374,18 +1378,27 @@ fn fly_one(i: u32) -> u32 {
 // The particle-steps of a workgroup, added up there before one addition to its member's.
 var<workgroup> group_steps: atomic<u32>;
 
-// Each member's slots fill whole workgroups, so that a workgroup flies one member's particles.
+// The first slot of workgroup `wid`, its member read into `M`; NO_SLOT past every member's
+// slots. Each member's slots fill whole workgroups, so a workgroup holds one member's particles.
+fn group_first(wid: vec3<u32>) -> u32 {
+    let first = wid.x * 64u + wid.y * params.steps.w;
+    if (first >= params.steps.z) {
+        return NO_SLOT;
+    }
+    load_member(member_of(first));
+    return first;
+}
+
 @compute @workgroup_size(64)
 fn fly(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let first = wid.x * 64u + wid.y * params.steps.w;
-    if (first >= params.steps.z) {
+    let first = group_first(wid);
+    if (first == NO_SLOT) {
         return;
     }
     let i = first + lid;
-    load_member(member_of(first));
     if (lid == 0u) {
         atomicStore(&group_steps, 0u);
     }

@@ -4,9 +4,10 @@
 //! kernels in WGSL (`flight.wgsl`), one invocation per particle, flying it through every step
 //! of a layer epoch against the layers as they stood at the epoch's start, and a call's epochs
 //! (up to the next layer-stage run) in one submission, the layers settled on the GPU between
-//! two. The engine keeps the rest of the pipeline: it schedules and samples the births, books
-//! what the kernels counted, settles its own layers and runs the layer stages (slump,
-//! cohesion, drip) on the CPU, whose released material flies on the GPU in the next call.
+//! two, and the newborns sampled where they fly (`births.wgsl`). The engine keeps the rest of
+//! the pipeline: it schedules the births (counts, ids, the nozzle's pose), books what the
+//! kernels counted, settles its own layers and runs the layer stages (slump, cohesion, drip) on
+//! the CPU, whose released material flies on the GPU in the next call.
 //!
 //! ```no_run
 //! use spraysim_engine::{Simulation, SimulationConfig};
@@ -50,6 +51,7 @@
 //! the engine, the gun's air and an impact log. Calls whose impacts an observer gathers as events fly on the CPU.
 
 mod batch;
+mod births;
 mod device;
 mod dispatch;
 mod flight;

@@ -46,7 +46,7 @@ pub struct Params {
 }
 
 /// Words of one member at the start of the scene's words (the WGSL `Member`).
-pub const MEMBER_WORDS: usize = 28;
+pub const MEMBER_WORDS: usize = 32;
 /// Words of each target in the table of all members' targets, after the members' words: its
 /// first cell over all grids, a quantum's thickness on one of its cells (f32 bits), the counter
 /// word of its band, a spare.
@@ -101,15 +101,22 @@ impl GpuParticle {
         }
     }
 
-    /// `p` as this slot leaves it: anchored where the slot stands (re-anchored every step, as
-    /// the Euler integrators are).
-    pub fn update(&self, p: &Particle) -> Particle {
-        let mut q = *p;
-        q.anchor = glam::Vec3::from_array(self.x).as_dvec3();
-        q.velocity = glam::Vec3::from_array(self.v);
-        q.since = 0;
-        q.status = (self.status & 0xffff) as u16;
-        q
+    /// The particle this slot holds, anchored where it stands (re-anchored every step, as the
+    /// Euler integrators are).
+    pub fn particle(&self) -> Particle {
+        Particle {
+            anchor: glam::Vec3::from_array(self.x).as_dvec3(),
+            velocity: glam::Vec3::from_array(self.v),
+            born: self.born,
+            id: self.id,
+            since: 0,
+            status: (self.status & 0xffff) as u16,
+        }
+    }
+
+    /// Whether the particle in this slot is in flight.
+    pub fn is_alive(&self) -> bool {
+        (self.status >> 12) & u32::from(flags::ALIVE) != 0
     }
 }
 
@@ -132,13 +139,17 @@ pub struct SceneWords {
     pub cells: u32,
     /// Whether any target erodes.
     pub erodes: bool,
+    /// Where its births lie: the offset of the emitter's words (the batches of births after
+    /// them), the batches, the slots of its swarm (uploaded) and the newborns after them
+    /// (sampled by the `born` kernel); see `births.rs`.
+    pub births: [u32; 4],
 }
 
-fn put_f(w: &mut [u32], at: usize, x: f64) {
+pub(crate) fn put_f(w: &mut [u32], at: usize, x: f64) {
     w[at] = (x as f32).to_bits();
 }
 
-fn put_v(w: &mut [u32], at: usize, v: DVec3) {
+pub(crate) fn put_v(w: &mut [u32], at: usize, v: DVec3) {
     for k in 0..3 {
         put_f(w, at + k, v[k]);
     }
@@ -386,6 +397,7 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         first_cells,
         cells,
         erodes: config.targets.iter().any(|t| t.erosion.is_some()),
+        births: [0; 4],
     }
 }
 
@@ -467,9 +479,11 @@ pub fn member_words(
 }
 
 /// Writes where a member lies (`place`) into its words: the offsets of its own words and of
-/// their tables, its first slot, target, cell and counter word.
+/// their tables, its first slot, target, cell and counter word, and its births.
 pub fn place_member(w: &mut [u32; MEMBER_WORDS], scene: &SceneWords, place: Place) {
     let [targets, shapes, released] = scene.tables.map(|t| place.words + t);
     w[20..24].copy_from_slice(&[place.words, targets, shapes, released]);
     w[24..28].copy_from_slice(&[place.slot, place.target, place.cell, place.counters]);
+    let [emitter, batches, swarm, newborns] = scene.births;
+    w[28..32].copy_from_slice(&[place.words + emitter, batches, swarm, newborns]);
 }

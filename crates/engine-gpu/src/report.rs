@@ -3,7 +3,7 @@
 //! listed (with their deposits, impacts and wear), in cell order.
 
 use crate::dispatch::Raw;
-use crate::pack::{OBSTACLE_COUNTER_WORDS, SceneWords, TALLY_WORDS, TARGET_COUNTER_WORDS};
+use crate::pack::{GpuParticle, OBSTACLE_COUNTER_WORDS, SceneWords, TALLY_WORDS, TARGET_COUNTER_WORDS};
 use rayon::prelude::*;
 use spraysim_engine::pipeline::{CellBook, FlightJob, FlightReport};
 use spraysim_engine::tally::{Quanta, Tallied, Tally};
@@ -15,11 +15,11 @@ fn tallied(w: &[u32], at: usize) -> Tallied {
 }
 
 /// The report of `job` (laid out as `scene`) from what its member of a dispatch read back: its
-/// particles flown, its counter block, and the cells it listed with their wear (none where no
+/// particles still in flight, its counter block, and the cells it listed with their wear (none where no
 /// target erodes).
 pub(crate) fn report(job: &FlightJob<'_>, scene: &SceneWords, raw: &Raw) -> FlightReport {
     let (w, listed, wear) = (&raw.counters, &raw.listed, &raw.wear);
-    let particles = raw.slots.par_iter().zip(job.particles).map(|(g, p)| g.update(p)).collect();
+    let particles = raw.slots.par_iter().filter(|g| g.is_alive()).map(GpuParticle::particle).collect();
     let slot = |k: usize| tallied(w, 4 + 4 * k);
     let tally = Tally {
         left_domain: slot(0),

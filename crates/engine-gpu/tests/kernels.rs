@@ -11,7 +11,7 @@ use spraysim_engine::config::ObstacleConfig;
 use spraysim_engine::deposit::{
     Chart, CylinderSurface, DepositSurface, Opening, RectangleSurface, ShellChart, Surface, footprint_cells,
 };
-use spraysim_engine::particles::{Particle, flags};
+use spraysim_engine::particles::{Particle, StreamKey, flags};
 use spraysim_engine::pipeline::{FlightJob, FlightStage};
 use spraysim_engine::process::rebound::NeverRebound;
 use spraysim_engine::{Simulation, SimulationConfig};
@@ -62,8 +62,9 @@ fn aimed(
         .collect()
 }
 
-/// What the GPU reports of `particles` (each a nozzle particle) flown 400 steps in one epoch:
-/// every flight meets the bare surfaces.
+/// What the GPU reports of `particles` (each a nozzle particle) flown 400 steps in one epoch,
+/// with every particle as the call left it, retired or not: every flight meets the bare
+/// surfaces.
 fn one_epoch(
     gpu: &spraysim_gpu::GpuFlight,
     config: &SimulationConfig,
@@ -78,10 +79,19 @@ fn one_epoch(
         epoch: 400,
         particles,
         quanta: &quanta,
+        births: &[],
+        nozzle_quanta: NOZZLE,
+        key: StreamKey::new(config.seed),
         targets: sim.targets(),
         revised: &[None],
     };
-    gpu.fly(&job).expect("the GPU flies the job")
+    let (mut report, all) = gpu.fly_traced(&job).expect("the GPU flies the job");
+    assert!(
+        all.iter().filter(|p| p.is_alive()).eq(&report.particles),
+        "the report hands back those in flight"
+    );
+    report.particles = all;
+    report
 }
 
 /// Where forward Euler (x += v Δt, then v += g Δt) from `x`, `v` first crosses the plane x = 0
@@ -336,6 +346,9 @@ fn a_deposit_shares_its_volume_over_the_footprint_exactly_beyond_32_bits() {
         epoch: 100,
         particles: &particles,
         quanta: &quanta,
+        births: &[],
+        nozzle_quanta: NOZZLE,
+        key: StreamKey::new(config.seed),
         targets: sim.targets(),
         revised: &[None],
     };

@@ -49,14 +49,24 @@ impl FlightStage for Declining {
     }
 }
 
-/// A stage that hands back none of the particles it was given.
+/// A stage that hands back none of the particles it was given, and counts no fate for them
+/// (or, `inventing`, hands back one it was not given).
 #[derive(Debug)]
-struct Losing;
+struct Losing {
+    inventing: bool,
+}
 
 impl FlightStage for Losing {
     fn fly(&self, job: &FlightJob<'_>) -> Result<FlightReport, String> {
         let n = job.targets.len();
+        let mut particles = Vec::new();
+        if self.inventing {
+            let mut p = job.newborns().pop().ok_or("no newborn")?;
+            p.id += 1;
+            particles.push(p);
+        }
         Ok(FlightReport {
+            particles,
             targets: vec![Default::default(); n],
             cells: vec![Vec::new(); n],
             obstacles: vec![Default::default(); job.config.obstacles.len()],
@@ -96,13 +106,15 @@ fn a_declined_call_flies_on_the_engine_with_the_same_bits_and_the_reason_is_kept
     assert_eq!(declining.calls.load(Ordering::Relaxed) as u64, own.total_steps() / own.epoch_steps());
     assert_eq!(declined.flight_stage_error(), Some("no device"));
     same(&declined, &own);
-    let lost = run(Some(Arc::new(Losing)));
-    assert!(
-        lost.flight_stage_error().is_some_and(|e| e.contains("other particles")),
-        "{:?}",
-        lost.flight_stage_error()
-    );
-    assert_eq!(format!("{:?}", lost.metrics()), format!("{:?}", own.metrics()));
+    for (inventing, why) in [(false, "fates count 0 particles retired"), (true, "other particles")] {
+        let lost = run(Some(Arc::new(Losing { inventing })));
+        assert!(
+            lost.flight_stage_error().is_some_and(|e| e.contains(why)),
+            "{:?}",
+            lost.flight_stage_error()
+        );
+        assert_eq!(format!("{:?}", lost.metrics()), format!("{:?}", own.metrics()));
+    }
     assert_eq!(own.flight_stage_error(), None);
 }
 

@@ -16,9 +16,11 @@ use crate::particles::{Particle, StreamKey, flags};
 use crate::world::Role;
 use glam::DVec3;
 
-/// The particles the nozzle spawns in one step.
+/// The particles the nozzle spawns in one step: how many, their ids, and the nozzle's pose
+/// they start from. Each one's start (a point of the aperture, a direction in the cone, a
+/// speed) is drawn from the emitter's laws ([`crate::emission::Emitter`]) when it is flown.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Births {
+pub struct Births {
     /// The step, whose start they are born at.
     pub step: u64,
     /// The first one's id; the others follow.
@@ -32,7 +34,8 @@ pub(super) struct Births {
 }
 
 impl Births {
-    /// Particle number `k` of this batch (from 0), its start sampled from its own stream.
+    /// Particle number `k` of this batch (from 0), its start sampled from its own stream of
+    /// the run's `key`, as the engine's own flight samples it.
     #[inline]
     pub fn particle(&self, k: u64, sampler: &Sampler<'_>, key: StreamKey) -> Particle {
         // The configuration bounds the run's particle count by 2³², so every id fits in 32 bits.

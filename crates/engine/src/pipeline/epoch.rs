@@ -69,7 +69,7 @@ pub(super) fn run(
     let jets = emit::jets(config, state, from, to);
     let mut declined = None;
     if let Some(stage) = stage {
-        match stage::fly(stage, config, plan, state, how.workers, (from, to), &births) {
+        match stage::fly(stage, config, plan, state, (from, to), &births) {
             Ok(flown) => {
                 finish(config, plan, state, (from, to), flown, &emissions, events);
                 return (to - from, None);

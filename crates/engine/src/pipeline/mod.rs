@@ -25,6 +25,7 @@ mod settle;
 mod setup;
 mod stage;
 
+pub use emit::Births;
 pub use stage::{CellBook, FlightJob, FlightReport, FlightStage};
 
 use crate::collision::Scene;

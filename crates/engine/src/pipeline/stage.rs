@@ -1,7 +1,13 @@
 //! The flight stage's seam: another backend (the GPU's kernels, `spraysim-gpu`) may fly the
 //! particles of a call in place of the engine's parallel region, given the same inputs, and
-//! hand back what they did as plain data: their states at the call's end, the fates and impacts
-//! in integer quanta, and per target the cells whose deposits and impacts changed.
+//! hand back what they did as plain data: the particles still in flight at the call's end, the
+//! fates and impacts in integer quanta, and per target the cells whose deposits and impacts
+//! changed.
+//!
+//! The engine schedules the births (how many in each step, their ids, the nozzle's pose) and
+//! the stage samples each newborn's start from the emitter's laws, as the engine's own flight
+//! does in its parallel region: a stage on a GPU draws them there, so that no newborn crosses
+//! to it, and only the particles still in flight at the call's end come back.
 //!
 //! A stage may take several layer epochs in one call ([`FlightStage::epochs_per_call`]): then it
 //! adds each epoch's deposits to its own copy of the layers at that epoch's end, as the engine
@@ -17,13 +23,12 @@
 
 use super::emit::Births;
 use super::kernel::Books;
-use super::{Plan, State, Workers};
+use super::{Plan, State};
 use crate::config::SimulationConfig;
 use crate::deposit::DepositSurface;
-use crate::particles::Particle;
+use crate::particles::{Particle, StreamKey, flags};
 use crate::tally::Tally;
 use crate::world::{ObstacleTally, Target, TargetTally};
-use rayon::prelude::*;
 
 /// A backend that flies the particles of a call (see the module's docs).
 ///
@@ -76,13 +81,20 @@ pub struct FlightJob<'a> {
     /// m) to its copy of the layers before the next epoch flies. A call of one epoch needs none
     /// of this.
     pub epoch: u64,
-    /// The particles in flight, by increasing id: those of the swarm (from step `from`), then
-    /// the newborns of the call's steps (each from its birth step, [`Particle::born`], in
-    /// whichever of the call's epochs that falls).
+    /// The particles of the swarm in flight at step `from`, by increasing id.
     pub particles: &'a [Particle],
-    /// The volume each particle carries, quanta of [`SimulationConfig::volume_quantum`], in
+    /// The volume each of them carries, quanta of [`SimulationConfig::volume_quantum`], in
     /// the same order.
     pub quanta: &'a [u64],
+    /// The nozzle's births in the call's steps, in step order, their ids above every id of
+    /// `particles` and increasing: the stage samples each newborn's start (see
+    /// [`FlightJob::newborns`] for the engine's draws) and flies it from its birth step, in
+    /// whichever of the call's epochs that falls.
+    pub births: &'a [Births],
+    /// The volume each newborn carries, quanta of [`SimulationConfig::volume_quantum`].
+    pub nozzle_quanta: u64,
+    /// The run's key of random streams, from which the engine draws the newborns' starts.
+    pub key: StreamKey,
     /// The targets, with their layers as they stood at the call's start.
     pub targets: &'a [Target],
     /// Per target, the identity of its layer and the cells whose thickness changed since the
@@ -96,8 +108,8 @@ pub struct FlightJob<'a> {
 /// What a [`FlightJob`]'s particles did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FlightReport {
-    /// Each particle of the job, in its order, as it stands at the call's end: still in flight
-    /// (alive), or retired (stuck, left, expired).
+    /// The particles of the job, of the swarm or newborn, still in flight at the call's end, by
+    /// increasing id; the others retired (stuck, left, expired), each counted in one fate.
     pub particles: Vec<Particle>,
     /// Fates and first substrate impacts (its `emitted`, `released`, `dripped` and `ran_off`
     /// stay zero: the engine books those).
@@ -134,28 +146,37 @@ pub struct CellBook {
 /// id order) and how many particles of the swarm left flight.
 pub(super) type Flown = (Books, Vec<Vec<Particle>>, usize);
 
+impl FlightJob<'_> {
+    /// The newborns of [`FlightJob::births`], in id order, their starts drawn as the engine's
+    /// own flight draws them (each from its own stream of [`FlightJob::key`]).
+    pub fn newborns(&self) -> Vec<Particle> {
+        let sampler = self.config.emitter.sampler();
+        self.births
+            .iter()
+            .flat_map(|b| (0..b.count).map(move |k| b.particle(k, &sampler, self.key)))
+            .collect()
+    }
+
+    /// How many particles the nozzle spawns in the call.
+    pub fn newborn_count(&self) -> u64 {
+        self.births.iter().map(|b| b.count).sum()
+    }
+}
+
 /// Flies the call's particles on `stage`: on success the swarm's particles take their new
-/// states and the flight's books are returned; on an error nothing has changed.
+/// states (those not handed back have retired) and the flight's books are returned, with the
+/// newborns still in flight; on an error nothing has changed.
 pub(super) fn fly(
     stage: &dyn FlightStage,
     config: &SimulationConfig,
     plan: &Plan,
     state: &mut State,
-    workers: &Workers,
     (from, to): (u64, u64),
     births: &[Births],
 ) -> Result<Flown, String> {
-    let newborns = newborns(config, plan, workers, births);
-    let mut particles: Vec<Particle> =
-        state.swarm.particles.iter().filter(|p| p.is_alive()).copied().collect();
-    particles.extend_from_slice(&newborns);
+    let particles: Vec<Particle> = state.swarm.particles.iter().filter(|p| p.is_alive()).copied().collect();
     let volumes = &state.swarm.volumes;
-    let quanta = |p: &Particle| volumes.of(p.id, p.flags());
-    let quanta: Vec<u64> = if workers.parallel() {
-        workers.install(|| particles.par_iter().map(quanta).collect())
-    } else {
-        particles.iter().map(quanta).collect()
-    };
+    let quanta: Vec<u64> = particles.iter().map(|p| volumes.of(p.id, p.flags())).collect();
     let revised: Vec<Option<(u64, Vec<u32>)>> =
         state.targets.iter_mut().map(|t| t.surface.take_revised()).collect();
     let job = FlightJob {
@@ -165,6 +186,9 @@ pub(super) fn fly(
         epoch: plan.epoch,
         particles: &particles,
         quanta: &quanta,
+        births,
+        nozzle_quanta: volumes.nozzle,
+        key: plan.key,
         targets: &state.targets,
         revised: &revised,
     };
@@ -184,29 +208,63 @@ pub(super) fn fly(
             target.pending.wear(c.cell, c.wear, touched);
         }
     }
-    let mut flown = report.particles.into_iter();
+    // Both in id order: a particle of the swarm not handed back has retired.
+    let mut flown = report.particles.into_iter().peekable();
     let mut retired = 0;
     for p in state.swarm.particles.iter_mut().filter(|p| p.is_alive()) {
-        if let Some(q) = flown.next() {
-            retired += usize::from(!q.is_alive());
-            *p = q;
+        match flown.next_if(|q| q.id == p.id) {
+            Some(q) => *p = q,
+            None => {
+                p.set_flags(p.flags() & !flags::ALIVE);
+                retired += 1;
+            }
         }
     }
-    let born: Vec<Particle> = flown.filter(Particle::is_alive).collect();
-    Ok((books, vec![born], retired))
+    Ok((books, vec![flown.collect()], retired))
 }
 
-/// Refuses a report that does not answer its job: a particle lost or out of order, a cell
-/// outside its grid, or tallies for other targets and obstacles.
+/// Refuses a report that does not answer its job: a particle it was not given, out of order or
+/// retired, fates that do not account for the particles that left flight, a cell outside its
+/// grid, or tallies for other targets and obstacles.
 fn check(report: &FlightReport, job: &FlightJob<'_>) -> Result<(), String> {
-    let same = report.particles.len() == job.particles.len()
-        && report.particles.iter().zip(job.particles).all(|(a, b)| a.id == b.id);
-    if !same {
-        return Err("the flight stage handed back other particles than it was given".into());
+    // The job's ids in increasing order: the swarm's, then each batch of births'.
+    let mut given = job.particles.iter().map(|p| u64::from(p.id)).peekable();
+    let mut batches = job.births.iter().map(|b| b.first..b.first + b.count).peekable();
+    let mut last = None;
+    for p in &report.particles {
+        let id = u64::from(p.id);
+        let known = loop {
+            if let Some(&g) = given.peek() {
+                if g < id {
+                    given.next();
+                    continue;
+                }
+                break g == id;
+            }
+            match batches.peek() {
+                Some(r) if r.end <= id => {
+                    batches.next();
+                }
+                Some(r) => break r.contains(&id),
+                None => break false,
+            }
+        };
+        if !known || last.is_some_and(|l| l >= id) || !p.is_alive() {
+            return Err("the flight stage handed back other particles than it was given".into());
+        }
+        last = Some(id);
     }
     let (nt, no) = (job.targets.len(), job.config.obstacles.len());
     if report.targets.len() != nt || report.obstacles.len() != no || report.cells.len() != nt {
         return Err("the flight stage handed back tallies for other targets or obstacles".into());
+    }
+    let given = job.particles.len() as u64 + job.newborn_count();
+    if given - report.particles.len() as u64 != retired(report) {
+        return Err(format!(
+            "the flight stage's fates count {} particles retired, not the {} it did not hand back",
+            retired(report),
+            given - report.particles.len() as u64
+        ));
     }
     for (target, cells) in job.targets.iter().zip(&report.cells) {
         let n = target.surface.thickness().len();
@@ -217,15 +275,12 @@ fn check(report: &FlightReport, job: &FlightJob<'_>) -> Result<(), String> {
     Ok(())
 }
 
-/// The newborns of `births`, in id order, each sampled from its own stream (in parallel
-/// where the workers are).
-fn newborns(config: &SimulationConfig, plan: &Plan, workers: &Workers, births: &[Births]) -> Vec<Particle> {
-    let sampler = config.emitter.sampler();
-    let batch = |b: &Births| (0..b.count).map(|k| b.particle(k, &sampler, plan.key)).collect::<Vec<_>>();
-    let batches: Vec<Vec<Particle>> = if workers.parallel() {
-        workers.install(|| births.par_iter().map(batch).collect())
-    } else {
-        births.iter().map(batch).collect()
-    };
-    batches.concat()
+/// The particles a report's fates count as retired: stuck on a target (front or back, sprayed
+/// or released) or an obstacle, out of the domain, expired, overspray.
+fn retired(report: &FlightReport) -> u64 {
+    let t = &report.tally;
+    let fates = [t.left_domain, t.expired, t.overspray, t.released_left, t.released_expired];
+    let on_targets = report.targets.iter().map(|g| g.stuck.count + g.stuck_back.count + g.received.count);
+    let on_obstacles = report.obstacles.iter().map(|o| o.stuck.count + o.received.count);
+    fates.iter().map(|f| f.count).chain(on_targets).chain(on_obstacles).sum()
 }
