@@ -6,12 +6,15 @@
 //! thread advances it as usual. A member's call waits until every member still flying has
 //! handed in its call; the last to arrive flies them all (members whose calls span other
 //! epochs in dispatches of their own) and wakes the others. A member leaves when its run ends
-//! ([`BatchMember::leave`], also on drop), so the others do not wait for it. Each member keeps
-//! its own region of the layers' buffer, so only the spans of its layers that changed are
-//! uploaded; a batch's grids must fit one binding of cells, and [`run_together`] splits larger
-//! sets into batches that run side by side. A member's results do not depend on the others: each invocation reads only its own
-//! member's words, and each member books into its own counters, so a run gives the same bits
-//! in a batch as alone. [`run_together`] runs a set of simulations so.
+//! ([`BatchMember::leave`], also on drop), so the others do not wait for it; one that has left
+//! flies its calls with whoever is flying then, or alone. Each member keeps its own region of
+//! the layers' buffer, so only the spans of its layers that changed are uploaded; a batch's
+//! grids must fit one binding of cells, and [`run_together`] splits larger sets into batches
+//! that run side by side. A member's results do not depend on the others: each invocation
+//! reads only its own member's words, and each member books into its own counters, so a run
+//! gives the same bits in a batch as alone. [`run_together`] runs a set of simulations so;
+//! [`step_together`] steps a set, its members staying in their batches between two calls (the
+//! vectorised environments' steps), so that a batch's storage and its copy of the layers last.
 
 use crate::GpuError;
 use crate::dispatch::{self, Buffers, MemberCall, Raw};
@@ -58,6 +61,8 @@ type Answer = Result<(Raw, MemberCall), String>;
 pub struct BatchMember {
     batch: Arc<GpuBatch>,
     id: usize,
+    /// The cells of its simulation's grids its region holds, and whether a target erodes.
+    grids: (u64, bool),
     /// The identity of each of its targets' layers, with its first cell, as the batch's copy
     /// holds them (None: nothing known).
     mirror: Mutex<Option<Vec<(u64, u32)>>>,
@@ -69,6 +74,7 @@ impl GpuBatch {
     /// Every member must fly (its simulation advanced) or leave: the others wait for it.
     pub fn members(flight: Arc<GpuFlight>, sims: &[&Simulation]) -> Result<Vec<Arc<BatchMember>>, GpuError> {
         let mut regions = Vec::with_capacity(sims.len());
+        let grids: Vec<(u64, bool)> = sims.iter().map(|s| (grid_cells(s), erodes(s))).collect();
         let mut cells = 0u32;
         for sim in sims {
             regions.push(cells);
@@ -83,18 +89,28 @@ impl GpuBatch {
             waiting: Vec::new(),
             answers: (0..sims.len()).map(|_| None).collect(),
         };
-        let batch =
-            Arc::new(GpuBatch { flight, regions, cells, state: Mutex::new(state), answered: Condvar::new() });
-        Ok((0..sims.len())
-            .map(|id| {
+        let batch = Arc::new(GpuBatch {
+            flight: flight.clone(),
+            regions,
+            cells,
+            state: Mutex::new(state),
+            answered: Condvar::new(),
+        });
+        let members: Vec<Arc<BatchMember>> = grids
+            .into_iter()
+            .enumerate()
+            .map(|(id, grids)| {
                 Arc::new(BatchMember {
                     batch: batch.clone(),
                     id,
+                    grids,
                     mirror: Mutex::new(None),
                     left: AtomicBool::new(false),
                 })
             })
-            .collect())
+            .collect();
+        flight.register(&members);
+        Ok(members)
     }
 
     fn lock(&self) -> MutexGuard<'_, State> {
@@ -166,6 +182,18 @@ impl GpuBatch {
 }
 
 impl BatchMember {
+    /// Joins the batch again after leaving it: the others wait for this member's calls again.
+    pub fn rejoin(&self) {
+        if self.left.swap(false, Ordering::SeqCst) {
+            self.batch.lock().active += 1;
+        }
+    }
+
+    /// Whether this member still fits `sim`: a region of its grids' cells, as wide a cell.
+    fn fits(&self, sim: &Simulation) -> bool {
+        self.grids == (grid_cells(sim), erodes(sim))
+    }
+
     /// Leaves the batch (once; also on drop): the others no longer wait for this member.
     pub fn leave(&self) {
         if self.left.swap(true, Ordering::SeqCst) {
@@ -178,11 +206,9 @@ impl BatchMember {
         }
     }
 
-    /// Runs `job` in the batch's next dispatch.
+    /// Runs `job` in the batch's next dispatch (at once, if no member flies: one that has left
+    /// is not waited for).
     fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
-        if self.left.load(Ordering::SeqCst) {
-            return Err(GpuError::Device("a call after its member left the batch".into()));
-        }
         let (mut call, layout) = flight::lay_out(job)?;
         call.cell = self.batch.regions[self.id];
         let mut mirror = self.mirror.lock().unwrap_or_else(PoisonError::into_inner);
@@ -240,6 +266,11 @@ impl Drop for Leaving {
     }
 }
 
+/// Whether a target of `sim` erodes (its cells then take wear counters too).
+fn erodes(sim: &Simulation) -> bool {
+    sim.config().targets.iter().any(|t| t.erosion.is_some())
+}
+
 /// Cells of `sim`'s grids (the GPU's share of its layers).
 fn grid_cells(sim: &Simulation) -> u64 {
     let cells: usize = sim
@@ -253,41 +284,31 @@ fn grid_cells(sim: &Simulation) -> u64 {
 
 /// Advances `sims` together, each on a thread of its own by `advance(k, sim)` (called until it
 /// returns false or `stop` is set), those with a flight stage with their calls flown in shared
-/// dispatches on `flight` (batches whose grids fit one binding of cells, 16 bytes a cell and 32
-/// where a target erodes, side by side), the others on the engine's own flight; each leaves its
-/// batch when done. Hands the simulations back, their stages replaced by their batch members.
+/// dispatches on `flight`, the others on the engine's own flight; each leaves its batch when
+/// done. Where every one with a stage is already a member of a batch on `flight` that still
+/// fits it and `reuse` is set, they rejoin their batches; else they go in new ones. Hands the
+/// simulations back, their stages their batch members.
 fn together<S: BorrowMut<Simulation> + Send>(
     flight: &Arc<GpuFlight>,
     mut sims: Vec<S>,
     stop: &AtomicBool,
+    reuse: bool,
     advance: impl Fn(usize, &mut Simulation) -> bool + Sync,
 ) -> Result<Vec<S>, GpuError> {
-    let limit = flight.gpu.device.limits().max_storage_buffer_binding_size;
     let on_gpu: Vec<usize> = (0..sims.len()).filter(|&k| sims[k].borrow().flight_stage().is_some()).collect();
-    let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
-    let mut start = 0;
-    while start < on_gpu.len() {
-        let (mut end, mut cells, mut widest) = (start, 0, dispatch::bytes_per_cell(false));
-        while end < on_gpu.len() {
-            let sim = sims[on_gpu[end]].borrow();
-            let erodes = sim.config().targets.iter().any(|t| t.erosion.is_some());
-            let (more, wide) = (cells + grid_cells(sim), dispatch::bytes_per_cell(erodes).max(widest));
-            if end > start && (more + 1) * wide > limit {
-                break;
+    let held = reuse.then(|| rejoined(flight, &sims, &on_gpu)).flatten();
+    let members = match held {
+        Some(members) => members,
+        None => {
+            let members = batched(flight, &sims, &on_gpu)?;
+            for (sim, member) in sims.iter_mut().zip(&members) {
+                if let Some(m) = member {
+                    sim.borrow_mut().set_flight_stage(Some(m.clone() as Arc<dyn FlightStage>));
+                }
             }
-            (cells, widest, end) = (more, wide, end + 1);
+            members
         }
-        let batch: Vec<&Simulation> = on_gpu[start..end].iter().map(|&k| sims[k].borrow()).collect();
-        for (&k, member) in on_gpu[start..end].iter().zip(GpuBatch::members(flight.clone(), &batch)?) {
-            members[k] = Some(member);
-        }
-        start = end;
-    }
-    for (sim, member) in sims.iter_mut().zip(&members) {
-        if let Some(m) = member {
-            sim.borrow_mut().set_flight_stage(Some(m.clone() as Arc<dyn FlightStage>));
-        }
-    }
+    };
     let advance = &advance;
     Ok(std::thread::scope(|scope| {
         let handles: Vec<_> = sims
@@ -308,6 +329,52 @@ fn together<S: BorrowMut<Simulation> + Send>(
     }))
 }
 
+/// The batch members that the simulations `on_gpu` of `sims` have as their stages, each
+/// rejoined to its batch, if every one has one on `flight` that still fits it; else `None`.
+fn rejoined<S: BorrowMut<Simulation>>(
+    flight: &GpuFlight,
+    sims: &[S],
+    on_gpu: &[usize],
+) -> Option<Vec<Option<Arc<BatchMember>>>> {
+    let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
+    for &k in on_gpu {
+        let sim = sims[k].borrow();
+        let member = flight.member(sim.flight_stage()?).filter(|m| m.fits(sim))?;
+        members[k] = Some(member);
+    }
+    members.iter().flatten().for_each(|m| m.rejoin());
+    Some(members)
+}
+
+/// New batch members for the simulations `on_gpu` of `sims`: batches whose grids fit one
+/// binding of cells (16 bytes a cell, 32 where a target erodes), side by side.
+fn batched<S: BorrowMut<Simulation>>(
+    flight: &Arc<GpuFlight>,
+    sims: &[S],
+    on_gpu: &[usize],
+) -> Result<Vec<Option<Arc<BatchMember>>>, GpuError> {
+    let limit = flight.gpu.device.limits().max_storage_buffer_binding_size;
+    let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
+    let mut start = 0;
+    while start < on_gpu.len() {
+        let (mut end, mut cells, mut widest) = (start, 0, dispatch::bytes_per_cell(false));
+        while end < on_gpu.len() {
+            let sim = sims[on_gpu[end]].borrow();
+            let (more, wide) = (cells + grid_cells(sim), dispatch::bytes_per_cell(erodes(sim)).max(widest));
+            if end > start && (more + 1) * wide > limit {
+                break;
+            }
+            (cells, widest, end) = (more, wide, end + 1);
+        }
+        let batch: Vec<&Simulation> = on_gpu[start..end].iter().map(|&k| sims[k].borrow()).collect();
+        for (&k, member) in on_gpu[start..end].iter().zip(GpuBatch::members(flight.clone(), &batch)?) {
+            members[k] = Some(member);
+        }
+        start = end;
+    }
+    Ok(members)
+}
+
 /// Runs `sims` (each with a flight stage) to their ends together, each on a thread of its own,
 /// their calls flown in shared dispatches on `flight` (see [`GpuBatch`]; a set whose grids
 /// outgrow one binding of cells is split into batches that run side by side), and returns
@@ -323,7 +390,7 @@ pub fn run_together<T: Send>(
     for sim in sims.iter_mut().filter(|s| s.flight_stage().is_none()) {
         sim.set_flight_stage(Some(flight.clone()));
     }
-    let finished = together(flight, sims, stop, |_, sim| {
+    let finished = together(flight, sims, stop, false, |_, sim| {
         if !sim.is_finished() {
             sim.advance_call(sim.steps_to_call_end());
         }
@@ -342,26 +409,29 @@ pub fn run_together<T: Send>(
 
 /// Advances each of `sims` by `steps` steps (or to its run's end), together: each on a thread
 /// of its own, the calls of those with a flight stage flown in shared dispatches on `flight`
-/// (as [`run_together`]), the others on the engine's own flight; each keeps its stage. Each
-/// stops early, after the call under way, once `stop` is set. Each one's results equal its
-/// steps alone: the vectorised step of a set of environments.
+/// (as [`run_together`]), the others on the engine's own flight. Each stops early, after the
+/// call under way, once `stop` is set. Each one's results equal its steps alone: the
+/// vectorised step of a set of environments.
+///
+/// Those on the GPU keep their batch members as their stages, so that the next call with the
+/// same simulations (or some of them) finds its batches again: their storage, and their copies
+/// of the layers, which only the cells changed since then need to reach. A simulation whose
+/// stage is no member of a batch on `flight`, or whose grids no longer fit its member's region
+/// (a rebuild on another scene), puts all of them in new batches. A member stepped on its own
+/// in between flies alone.
 pub fn step_together(
     flight: &Arc<GpuFlight>,
     sims: &mut [&mut Simulation],
     steps: u64,
     stop: &AtomicBool,
 ) -> Result<(), GpuError> {
-    let stages: Vec<Option<Arc<dyn FlightStage>>> = sims.iter().map(|s| s.flight_stage().cloned()).collect();
     let goals: Vec<u64> =
         sims.iter().map(|s| s.steps_done().saturating_add(steps).min(s.total_steps())).collect();
     let borrowed: Vec<&mut Simulation> = sims.iter_mut().map(|s| &mut **s).collect();
-    together(flight, borrowed, stop, |k, sim| {
+    together(flight, borrowed, stop, true, |k, sim| {
         // A call ends by itself at its epoch's (or its stage's) end.
         sim.advance_call(goals[k].saturating_sub(sim.steps_done()));
         sim.steps_done() < goals[k]
     })?;
-    for (sim, stage) in sims.iter_mut().zip(stages) {
-        sim.set_flight_stage(stage);
-    }
     Ok(())
 }

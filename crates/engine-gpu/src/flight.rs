@@ -5,6 +5,7 @@
 //! in one.
 
 use crate::GpuError;
+use crate::batch::BatchMember;
 use crate::births;
 use crate::device::{Gpu, GpuOptions};
 use crate::dispatch::{self, Buffers, Kernels, Layers, MemberCall, Raw, Timing};
@@ -15,7 +16,7 @@ use rayon::prelude::*;
 use spraysim_engine::deposit::DepositSurface;
 use spraysim_engine::particles::Particle;
 use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex, PoisonError, Weak};
 use std::time::Instant;
 
 /// The engine's flight stage on the GPU (see the crate's docs).
@@ -27,6 +28,8 @@ pub struct GpuFlight {
     pub(crate) max_epochs: u64,
     state: Mutex<Single>,
     profile: Mutex<Profile>,
+    /// The batch members made on this stage (see [`GpuFlight::member`]).
+    members: Mutex<Vec<Weak<BatchMember>>>,
 }
 
 /// The storage of single calls, and what its copy of the layers holds.
@@ -103,6 +106,7 @@ impl GpuFlight {
             max_epochs,
             state: Mutex::new(Single::default()),
             profile: Mutex::new(Profile::default()),
+            members: Mutex::new(Vec::new()),
         })
     }
 
@@ -138,6 +142,20 @@ impl GpuFlight {
         if let Ok(mut p) = self.profile.lock() {
             p.add(epochs, particles, timing);
         }
+    }
+
+    /// Keeps track of `members`, batch members made on this stage (forgetting those dropped).
+    pub(crate) fn register(&self, members: &[Arc<BatchMember>]) {
+        let mut held = self.members.lock().unwrap_or_else(PoisonError::into_inner);
+        held.retain(|m| m.strong_count() > 0);
+        held.extend(members.iter().map(Arc::downgrade));
+    }
+
+    /// The batch member made on this stage that `stage` is, if it is one.
+    pub(crate) fn member(&self, stage: &Arc<dyn FlightStage>) -> Option<Arc<BatchMember>> {
+        let at = Arc::as_ptr(stage).cast::<()>();
+        let held = self.members.lock().unwrap_or_else(PoisonError::into_inner);
+        held.iter().filter_map(Weak::upgrade).find(|m| Arc::as_ptr(m).cast::<()>() == at)
     }
 
     /// Adds the time a report took (s) to the profile.

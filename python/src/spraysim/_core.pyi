@@ -463,4 +463,8 @@ def step_together(sims: Sequence[Simulation], n: Optional[int] = None) -> None:
     ends), together: each on a thread of its own, the calls of those on the GPU flown in shared
     dispatches (one dispatch for all of a batch), the others on the CPU. Each one's results
     equal stepping it alone. The simulations must be distinct; each is busy until all are done.
-    Ctrl-C raises ``KeyboardInterrupt`` once the calls under way end."""
+    Those on the GPU stay in their batch until the next call, which finds its storage and its
+    copy of their layers again (only the cells changed since then are uploaded), as long as it
+    is handed the same simulations or some of them; a new one among them (an environment reset
+    into a new ``Simulation``) puts them all in new batches. Ctrl-C raises
+    ``KeyboardInterrupt`` once the calls under way end."""
