@@ -1118,16 +1118,22 @@ fn impact(h: Hit, v_in: vec3<f32>, q: vec2<u32>) -> vec4<f32> {
     }
     let material = uniform01(P.id, MATERIAL_EVENT, 0u);
     let speed = length(v_in);
+    // The angle of incidence θ from the normal, from its cosine and sine with the arctangent of
+    // our own: drivers may take `acos` to 2·10⁻⁴ rad (lavapipe does), which would move the
+    // rebound laws' p_r(θ) by as much.
     var cos_theta = 1.0;
+    var sin_theta = 0.0;
     if (speed > 0.0) {
-        cos_theta = clamp(-dot(v_in, h.normal) / speed, 0.0, 1.0);
+        var n = h.normal;
+        cos_theta = clamp(-dot(v_in, n) / speed, 0.0, 1.0);
         if (front) {
             // On a layer, θ is taken on the bare surface (as the field's curves are).
-            let bare = bare_normal(M.tables.y + TARGET_WORDS * h.owner, h.point);
-            cos_theta = min(abs(dot(v_in, bare)) / speed, 1.0);
+            n = bare_normal(M.tables.y + TARGET_WORDS * h.owner, h.point);
+            cos_theta = min(abs(dot(v_in, n)) / speed, 1.0);
         }
+        sin_theta = min(length(cross(v_in, n)) / speed, 1.0);
     }
-    let theta = acos(cos_theta);
+    let theta = select(atan2_fine(sin_theta, cos_theta), 1.5707964, cos_theta == 0.0);
     let p = clamp(f(model) * rebound_law(model, theta, layer, front, material, bounced), 0.0, 1.0);
     let event = impacts();
     var stuck = true;
