@@ -528,8 +528,10 @@ pub(crate) const PARAMS_BYTES: wgpu::BufferSize =
 /// Usage of the readback buffer.
 const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
 
-/// `slot`'s buffer, replaced by a larger one (a power of two of bytes) if it holds fewer than
-/// `bytes`.
+/// `slot`'s buffer, replaced by a larger one if it holds fewer than `bytes`: `bytes` and a
+/// sixteenth more (within one binding's limit), so that a run whose calls grow a little at a
+/// time does not allocate at each, while a particle slot takes at most 36 × 17/16 = 38.3 bytes
+/// of GPU memory.
 fn grow(
     device: &wgpu::Device,
     slot: &mut Option<wgpu::Buffer>,
@@ -540,9 +542,10 @@ fn grow(
     match slot {
         Some(b) if b.size() >= bytes => b.clone(),
         _ => {
+            let limit = device.limits().max_storage_buffer_binding_size.max(bytes);
             let b = device.create_buffer(&wgpu::BufferDescriptor {
                 label: None,
-                size: bytes.next_power_of_two(),
+                size: (bytes + bytes / 16).next_multiple_of(16).min(limit),
                 usage,
                 mapped_at_creation: false,
             });

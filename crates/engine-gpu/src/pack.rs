@@ -85,7 +85,8 @@ pub struct GpuParticle {
     pub status: u32,
 }
 
-/// Bytes of GPU memory per particle slot.
+/// Bytes of one particle slot; the particles' buffer holds a sixteenth more for headroom at
+/// most (see `dispatch::grow`), so a slot takes at most 17/16 of this of GPU memory.
 pub const BYTES_PER_SLOT: usize = std::mem::size_of::<GpuParticle>();
 
 impl GpuParticle {

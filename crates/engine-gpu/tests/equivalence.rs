@@ -121,6 +121,58 @@ const LAYER_MOMENTS: [(usize, &str, f64); 4] = [
     (3, "radius of gyration", 1e-3),
 ];
 
+/// The first target's layer as (distance from its grid's centre, where the spray's axis
+/// strikes, m; volume, m³) per cell that holds material.
+fn radial(sim: &Simulation) -> Vec<(f64, f64)> {
+    let wall = &sim.targets()[0];
+    let Surface::Rectangle(r) = &wall.surface else { panic!("the first target is a rectangle") };
+    let area = r.field.cell_area();
+    wall.surface
+        .thickness()
+        .iter()
+        .enumerate()
+        .filter(|&(_, &t)| t > 0.0)
+        .map(|(c, &t)| {
+            let (u, w) = r.field.cell_center(c as u32);
+            (u.hypot(w), t * area)
+        })
+        .collect()
+}
+
+/// Asserts that the first target's radial thickness profile agrees between the CPU's runs and
+/// the GPU's, seed by seed: the share of the layer's volume in each of five rings round the
+/// spray's axis, their edges where the CPU's runs together reach 20, 40, 60 and 80 % of it.
+fn same_profile(cpu: &[Simulation], gpu: &[Simulation]) {
+    let mut pooled: Vec<(f64, f64)> = cpu.iter().flat_map(radial).collect();
+    pooled.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = pooled.iter().map(|p| p.1).sum();
+    let mut edges = Vec::new();
+    let mut sum = 0.0;
+    for &(r, v) in &pooled {
+        sum += v;
+        if sum >= total * 0.2 * (edges.len() + 1) as f64 && edges.len() < 4 {
+            edges.push(r);
+        }
+    }
+    assert_eq!(edges.len(), 4, "the CPU's layer has a profile");
+    let shares = |sim: &Simulation| {
+        let cells = radial(sim);
+        let volume: f64 = cells.iter().map(|c| c.1).sum();
+        let mut rings = [0.0; 5];
+        for (r, v) in cells {
+            rings[edges.partition_point(|&e| e < r)] += v / volume;
+        }
+        rings
+    };
+    let (on_cpu, on_gpu): (Vec<[f64; 5]>, Vec<[f64; 5]>) =
+        (cpu.iter().map(shares).collect(), gpu.iter().map(shares).collect());
+    for ring in 0..5 {
+        let column = |runs: &[[f64; 5]]| runs.iter().map(|s| s[ring]).collect::<Vec<_>>();
+        let what = format!("share of the layer's volume in ring {ring} (edges {edges:.3?} m)");
+        same_mean(&what, &column(&on_cpu), &column(&on_gpu), 0.0);
+    }
+}
+
 fn conserved(m: &Metrics) {
     assert_eq!(m.emitted.count, m.fates.total().count, "every particle has one fate");
     let b = &m.volume_balance;
@@ -140,6 +192,7 @@ fn shotcrete_on_the_gpu_agrees_with_the_cpu_engine_within_statistics() {
     ];
     same_shares(&cases, &cpu, &on_gpu, 0.0);
     same_moments(&LAYER_MOMENTS, &cpu, &on_gpu);
+    same_profile(&cpu, &on_gpu);
 }
 
 #[test]

@@ -32,10 +32,12 @@ use crate::world::{ObstacleTally, Target, TargetTally};
 
 /// A backend that flies the particles of a call (see the module's docs).
 ///
-/// Implementations must be deterministic: the same job gives the same report. They fly each
-/// particle through the job's steps against the layers as they stood at its epoch's start, with
-/// the configuration's motion, impact models and domain; what they do not model they must
-/// decline (an error) rather than approximate silently.
+/// Implementations must be deterministic: the same job gives the same report. They sample each
+/// newborn's start from the configuration's emitter (its laws, in the nozzle's pose of its
+/// batch, with the velocity the batch carries) and fly each particle through the job's steps
+/// against the layers as they stood at its epoch's start, with the configuration's motion,
+/// impact models and domain; what they do not model they must decline (an error) rather than
+/// approximate silently.
 pub trait FlightStage: Send + Sync + std::fmt::Debug {
     /// Flies `job`; an error leaves the call to the engine's own flight, and the simulation
     /// keeps the message (see [`crate::Simulation::flight_stage_error`]).

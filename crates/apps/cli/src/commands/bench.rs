@@ -34,7 +34,13 @@ fn gpu_rows(settings: &spraysim_bench::MatrixSettings) -> Result<()> {
     let together = |sims| spraysim::backend::run_together(sims, &stop).map_err(|e| e.to_string());
     spraysim_bench::stage::run_stage_rows(gpu, &together, settings, &mut std::io::stdout().lock())?;
     #[cfg(feature = "gpu")]
-    say!("GPU particle storage: {} bytes per particle slot", spraysim::gpu::BYTES_PER_SLOT);
+    {
+        let slot = spraysim::gpu::BYTES_PER_SLOT;
+        say!(
+            "GPU particle storage: {slot} bytes per particle slot ({:.1} at most with the buffer's headroom)",
+            slot as f64 * 17.0 / 16.0
+        );
+    }
     Ok(())
 }
 
