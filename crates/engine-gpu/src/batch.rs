@@ -141,7 +141,7 @@ impl GpuBatch {
         let room = self.flight.slots_per_dispatch();
         let mut groups: Vec<(usize, Vec<(usize, MemberCall)>)> = Vec::new();
         for (id, call) in waiting {
-            let slots = call.padded_slots() as usize;
+            let slots = usize::try_from(call.padded_slots()).unwrap_or(usize::MAX);
             let fits = |g: &&mut (usize, Vec<(usize, MemberCall)>)| {
                 g.1[0].1.epochs == call.epochs && g.0 + slots <= room
             };
@@ -330,16 +330,21 @@ fn together<S: BorrowMut<Simulation> + Send>(
 }
 
 /// The batch members that the simulations `on_gpu` of `sims` have as their stages, each
-/// rejoined to its batch, if every one has one on `flight` that still fits it; else `None`.
+/// rejoined to its batch, if every one has one of its own on `flight` that still fits it (a
+/// copy of a simulation shares its stage, and needs a member of its own); else `None`.
 fn rejoined<S: BorrowMut<Simulation>>(
     flight: &GpuFlight,
     sims: &[S],
     on_gpu: &[usize],
 ) -> Option<Vec<Option<Arc<BatchMember>>>> {
     let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
+    let mut seen = std::collections::HashSet::new();
     for &k in on_gpu {
         let sim = sims[k].borrow();
         let member = flight.member(sim.flight_stage()?).filter(|m| m.fits(sim))?;
+        if !seen.insert(Arc::as_ptr(&member)) {
+            return None;
+        }
         members[k] = Some(member);
     }
     members.iter().flatten().for_each(|m| m.rejoin());

@@ -62,7 +62,8 @@ fn inverse_normal_cdf(p0: f32) -> f32 {
 fn truncated_normal(e: u32, u: f32) -> f32 {
     let mu = f(e + 6u);
     let sigma = f(e + 7u);
-    if (sigma <= 0.0) {
+    // σ ≤ 0 (or not a number): the mean, as the engine's sampler.
+    if (!(sigma > 0.0)) {
         return clamp(mu, 0.0, 1.0);
     }
     let a = f(e + 8u);

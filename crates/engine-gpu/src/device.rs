@@ -16,7 +16,7 @@ pub struct GpuOptions {
 /// The most layer epochs a call takes by default: 0.64 s of simulated time at the default
 /// epoch of 5 ms. Enough that the cost of a call (a submission and a wait, some milliseconds)
 /// is spread thin, few enough that a run without layer stages stays responsive to an interrupt
-/// and samples its births a call at a time, not all at once.
+/// and schedules its births a call at a time, not all at once.
 pub const EPOCHS_PER_CALL: u64 = 128;
 
 /// An adapter and the device opened on it.

@@ -136,8 +136,8 @@ pub(crate) struct MemberCall {
 
 impl MemberCall {
     /// Its particle slots, the swarm's and the newborns', padded to whole workgroups.
-    pub fn padded_slots(&self) -> u32 {
-        (self.slots.len() as u32 + self.scene.births[3]).next_multiple_of(WORKGROUP)
+    pub fn padded_slots(&self) -> u64 {
+        (self.slots.len() as u64 + u64::from(self.scene.births[3])).next_multiple_of(u64::from(WORKGROUP))
     }
 }
 
@@ -194,7 +194,7 @@ pub(crate) fn dispatch(
     }
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
     // Each member's slots fill whole workgroups.
-    let slots: u64 = members.iter().map(|m| u64::from(m.padded_slots())).sum();
+    let slots: u64 = members.iter().map(MemberCall::padded_slots).sum();
     let per_cell = bytes_per_cell(members.iter().any(|m| m.scene.erodes));
     if per_cell * (u64::from(cells) + 1) > limit || BYTES_PER_SLOT as u64 * slots > limit {
         return Err(GpuError::TooLarge(format!(
@@ -202,6 +202,12 @@ pub(crate) fn dispatch(
         )));
     }
     let laid = lay_out(members, cells);
+    if 4 * laid.words.len() as u64 > limit {
+        return Err(GpuError::TooLarge(format!(
+            "{} words of scene and births in one call (one binding holds at most {limit} bytes)",
+            laid.words.len()
+        )));
+    }
     let erodes = members.iter().any(|m| m.scene.erodes);
     let bind = upload(gpu, kernels, b, (&laid, members), (cells, erodes), &epochs)?;
     let counter_bytes = 4 * laid.counters.len() as u64;
@@ -404,7 +410,8 @@ fn lay_out(members: &[MemberCall], cells: u32) -> LaidOut {
         pack::place_member(&mut head, scene, place);
         words[MEMBER_WORDS * m..MEMBER_WORDS * (m + 1)].copy_from_slice(&head);
         words.extend_from_slice(&scene.words);
-        slots += member.padded_slots();
+        // Within one binding's slots (checked by `dispatch`), so within u32.
+        slots += member.padded_slots() as u32;
         counters.extend_from_slice(&member.counters);
         places.push(place);
     }
@@ -531,7 +538,7 @@ const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::Bu
 /// `slot`'s buffer, replaced by a larger one if it holds fewer than `bytes`: `bytes` and a
 /// sixteenth more (within one binding's limit), so that a run whose calls grow a little at a
 /// time does not allocate at each, while a particle slot takes at most 36 × 17/16 = 38.3 bytes
-/// of GPU memory.
+/// of the particles' buffer (the read-back buffer, in host-visible memory, holds as much again).
 fn grow(
     device: &wgpu::Device,
     slot: &mut Option<wgpu::Buffer>,

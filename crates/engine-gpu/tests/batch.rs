@@ -166,3 +166,22 @@ fn stepping_together_gives_the_bits_of_stepping_each_alone() {
         }
     }
 }
+
+#[test]
+fn copies_of_a_simulation_stepped_together_fly_as_members_of_their_own() {
+    let Some(gpu) = common::own_gpu().map(Arc::new) else { return };
+    let stop = AtomicBool::new(false);
+    let mut original = shotcrete(0.1, 31).build().expect("builds");
+    original.set_flight_stage(Some(gpu.clone()));
+    spraysim_gpu::step_together(&gpu, &mut [&mut original], 20, &stop).expect("steps");
+    // The copy shares the original's stage, a member of the original's batch.
+    let mut copy = original.clone();
+    let stage = |s: &Simulation| s.flight_stage().map(|g| Arc::as_ptr(g).cast::<()>());
+    assert_eq!(stage(&copy), stage(&original));
+    while !original.is_finished() {
+        spraysim_gpu::step_together(&gpu, &mut [&mut original, &mut copy], 20, &stop).expect("steps");
+        assert_ne!(stage(&copy), stage(&original), "each copy in a member of its own");
+    }
+    assert!(copy.is_finished() && copy.flight_stage_error().is_none());
+    assert!(outcome(&copy) == outcome(&original), "a copy stepped beside its original gives its bits");
+}

@@ -297,7 +297,10 @@ impl Simulation {
         self.state.step >= self.plan.total_steps
     }
 
-    /// The particles, in flight and recently retired (see [`crate::particles::flags`]).
+    /// The particles, in flight and recently retired (see [`crate::particles::flags`]). One
+    /// retired in a call of a flight stage keeps its state from the call's start (the stage hands
+    /// back only the particles still in flight); one retired on the engine's own flight, where
+    /// it left flight.
     pub fn swarm(&self) -> &Swarm {
         &self.state.swarm
     }

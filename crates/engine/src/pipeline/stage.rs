@@ -210,7 +210,8 @@ pub(super) fn fly(
             target.pending.wear(c.cell, c.wear, touched);
         }
     }
-    // Both in id order: a particle of the swarm not handed back has retired.
+    // Both in id order: a particle of the swarm not handed back has retired (its state the
+    // call's start's, its status no longer alive).
     let mut flown = report.particles.into_iter().peekable();
     let mut retired = 0;
     for p in state.swarm.particles.iter_mut().filter(|p| p.is_alive()) {
