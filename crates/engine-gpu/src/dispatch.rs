@@ -160,6 +160,8 @@ pub(crate) struct Timing {
     pub upload: f64,
     pub kernels: f64,
     pub cells: f64,
+    /// Members, and of those the ones whose layers were uploaded whole.
+    pub members: (u64, u64),
 }
 
 /// Bytes a cell of the layers takes in the largest binding of a dispatch: its counters (16), or
@@ -188,7 +190,8 @@ pub(crate) fn dispatch(
     if epochs.is_empty() || members.iter().any(|m| m.epochs != epochs) {
         return Err(GpuError::Device("a dispatch of no steps, or of members of other steps".into()));
     }
-    let whole = members.iter().all(|m| matches!(m.layers, Layers::Whole(_)));
+    let whole_members = members.iter().filter(|m| matches!(m.layers, Layers::Whole(_))).count() as u64;
+    let whole = whole_members == members.len() as u64;
     if b.layer_cells != Some(cells) && !whole {
         return Err(GpuError::Device("the GPU's copy of the layers is not laid out for this call".into()));
     }
@@ -236,6 +239,7 @@ pub(crate) fn dispatch(
         upload: (uploaded - start).as_secs_f64(),
         kernels: (flew - uploaded).as_secs_f64(),
         cells: flew.elapsed().as_secs_f64(),
+        members: (members.len() as u64, whole_members),
     };
     Ok((raw, timing))
 }

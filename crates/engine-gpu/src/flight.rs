@@ -60,6 +60,11 @@ pub struct Profile {
     pub cells: f64,
     /// Turning what was read back into the engine's reports.
     pub report: f64,
+    /// Members flown (simulations' calls: one a dispatch for a single run).
+    pub members: u64,
+    /// Of those, the ones whose layers were uploaded whole (the GPU's copy held nothing known of
+    /// them); the others uploaded only the cells changed since their last call.
+    pub whole: u64,
 }
 
 impl Profile {
@@ -69,14 +74,17 @@ impl Profile {
         let per_call = |s: f64| 1e6 * s / calls;
         format!(
             "{} calls of {:.1} epochs and {:.0} particles: per call, upload {:.0} µs, kernels with counters and \
-             particles read back {:.0} µs, listed cells read back {:.0} µs, report {:.0} µs",
+             particles read back {:.0} µs, listed cells read back {:.0} µs, report {:.0} µs; layers uploaded \
+             whole for {} of {} members flown",
             self.calls,
             self.epochs as f64 / calls,
             self.particles as f64 / calls,
             per_call(self.upload),
             per_call(self.kernels),
             per_call(self.cells),
-            per_call(self.report)
+            per_call(self.report),
+            self.whole,
+            self.members
         )
     }
 
@@ -88,6 +96,8 @@ impl Profile {
         self.upload += timing.upload;
         self.kernels += timing.kernels;
         self.cells += timing.cells;
+        self.members += timing.members.0;
+        self.whole += timing.members.1;
     }
 }
 

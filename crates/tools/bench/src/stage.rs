@@ -1,6 +1,7 @@
 //! The rows of `spraysim bench --backend gpu`: the reference scene (alone, and in batches of 16
-//! and 64 run together), the 60 s raster and the short variants (one after the other, and in
-//! batches) with their particles flown on another backend's flight stage (the GPU's),
+//! and 64 run together), the 60 s raster and the short variants (one after the other, in
+//! batches, and stepped together as a vectorised environment steps its environments) with their
+//! particles flown on another backend's flight stage (the GPU's),
 //! beside the CPU's reference row, each with the share of its wall time spent in the stage (its
 //! uploads, kernels and read-backs) and the rest (births, booking, layers and their stages, on
 //! the CPU).
@@ -101,6 +102,40 @@ pub fn short_variants_on(count: usize, stage: &Arc<dyn FlightStage>) -> Result<f
 /// batches), and hands them back finished.
 pub type Together<'a> = &'a dyn Fn(Vec<Simulation>) -> Result<Vec<Simulation>, String>;
 
+/// Advances simulations by a number of steps together, their calls flown in shared dispatches
+/// (the GPU's batches, which last from one such step to the next): a vectorised environment's
+/// step.
+pub type StepTogether<'a> = &'a dyn Fn(&mut [&mut Simulation], u64) -> Result<(), String>;
+
+/// Short variants stepped together in the vectorised-environment row.
+const VECTOR_SCENES: usize = 16;
+
+/// Steps of each vectorised step in that row (an agent's action lasting 10 ms at Δt = 1 ms).
+const VECTOR_STEPS: u64 = 10;
+
+/// `VECTOR_SCENES` copies of the short variant (0.2 s, seeds 1 on) on `stage`, stepped
+/// `VECTOR_STEPS` steps at a time by `step` to their ends; returns vectorised steps per second
+/// and the length of one, s.
+fn vector_steps(step: StepTogether<'_>, stage: &Arc<dyn FlightStage>) -> Result<(f64, f64), BenchError> {
+    let short = ReferenceScene { duration: 0.2, ..ReferenceScene::default() }.scenario()?;
+    let mut sims = (1..=VECTOR_SCENES)
+        .map(|k| {
+            let mut sim = short.with("simulation.seed", k as i64)?.build()?;
+            sim.set_flight_stage(Some(stage.clone()));
+            Ok(sim)
+        })
+        .collect::<Result<Vec<Simulation>, BenchError>>()?;
+    let length = VECTOR_STEPS as f64 * sims.first().map_or(0.0, |s| s.config().dt);
+    let start = Instant::now();
+    let mut steps = 0u64;
+    while sims.iter().any(|s| !s.is_finished()) {
+        let mut refs: Vec<&mut Simulation> = sims.iter_mut().collect();
+        step(&mut refs, VECTOR_STEPS).map_err(BenchError::Settings)?;
+        steps += 1;
+    }
+    Ok((steps as f64 / start.elapsed().as_secs_f64(), length))
+}
+
 /// `count` copies of `scenario` (seeds 1 to `count`), run to their ends together; returns their
 /// wall time (s) and the particles they emitted.
 fn batch_of(
@@ -123,10 +158,11 @@ fn batch_of(
 
 /// Times the reference scene on the CPU (every thread) and on `stage`, then in batches of 16
 /// and 64 scenes run `together`, then the raster and the short variants (one after the other,
-/// and in batches of 64), as a Markdown table with the stage's share of each wall time.
+/// in batches of 64, and 16 of them stepped together by `step`), as a Markdown table with the
+/// stage's share of each wall time.
 pub fn run_stage_rows(
     stage: Arc<dyn FlightStage>,
-    together: Together<'_>,
+    (together, step): (Together<'_>, StepTogether<'_>),
     m: &MatrixSettings,
     out: &mut impl std::io::Write,
 ) -> Result<(), BenchError> {
@@ -189,15 +225,25 @@ pub fn run_stage_rows(
         100.0 * inside / raster.wall
     )?;
     profile(&on, out)?;
-    let variants = m.variants.max(1);
-    let per_second = short_variants_on(variants, &on)?;
+    short_rows(m.variants.max(1), (together, step), (&on, &timed), out)
+}
+
+/// The rows of the short variants: `variants` of them one after the other on `on` (timed by
+/// `timed`), in batches of 64 run `together`, and 16 of them stepped together by `step`.
+fn short_rows(
+    variants: usize,
+    (together, step): (Together<'_>, StepTogether<'_>),
+    (on, timed): (&Arc<dyn FlightStage>, &Arc<Timed>),
+    out: &mut impl std::io::Write,
+) -> Result<(), BenchError> {
+    let per_second = short_variants_on(variants, on)?;
     let (inside, calls) = timed.take();
     writeln!(
         out,
         "\n{variants} short variants of the reference scene (0.2 s each, one seed each, one after the other on the stage): {per_second:.1} per second, {:.0} % of the time in the stage ({calls} calls)",
         100.0 * inside * per_second / variants as f64
     )?;
-    profile(&on, out)?;
+    profile(on, out)?;
     let short = ReferenceScene { duration: 0.2, ..ReferenceScene::default() }.scenario()?;
     let start = Instant::now();
     for first in (0..variants).step_by(64) {
@@ -205,7 +251,16 @@ pub fn run_stage_rows(
     }
     let per_second = variants as f64 / start.elapsed().as_secs_f64();
     writeln!(out, "{variants} short variants in batches of 64 run together: {per_second:.1} per second")?;
-    profile(&on, out)?;
+    profile(on, out)?;
+    let (per_second, length) = vector_steps(step, on)?;
+    writeln!(
+        out,
+        "{VECTOR_SCENES} short variants stepped together {VECTOR_STEPS} steps ({:.0} ms) at a time, as a vectorised \
+         environment: {per_second:.1} vectorised steps per second ({:.0} environment steps per second)",
+        1e3 * length,
+        per_second * VECTOR_SCENES as f64
+    )?;
+    profile(on, out)?;
     Ok(())
 }
 

@@ -32,7 +32,12 @@ fn gpu_rows(settings: &spraysim_bench::MatrixSettings) -> Result<()> {
     let gpu = spraysim::backend::gpu()?;
     let stop = std::sync::atomic::AtomicBool::new(false);
     let together = |sims| spraysim::backend::run_together(sims, &stop).map_err(|e| e.to_string());
-    spraysim_bench::stage::run_stage_rows(gpu, &together, settings, &mut std::io::stdout().lock())?;
+    let step = |sims: &mut [&mut spraysim::Simulation], steps| {
+        spraysim::backend::step_together(sims, steps, &stop).map_err(|e| e.to_string())
+    };
+    let rows =
+        (&together as spraysim_bench::stage::Together<'_>, &step as spraysim_bench::stage::StepTogether<'_>);
+    spraysim_bench::stage::run_stage_rows(gpu, rows, settings, &mut std::io::stdout().lock())?;
     #[cfg(feature = "gpu")]
     {
         let slot = spraysim::gpu::BYTES_PER_SLOT;
