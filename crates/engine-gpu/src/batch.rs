@@ -19,14 +19,12 @@
 use crate::GpuError;
 use crate::dispatch::{self, Buffers, MemberCall, Raw};
 use crate::flight::{self, GpuFlight};
-use crate::report::report;
 use spraysim_engine::Simulation;
 use spraysim_engine::deposit::{DepositSurface, Surface};
 use spraysim_engine::pipeline::{FlightJob, FlightReport, FlightStage};
 use std::borrow::BorrowMut;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
-use std::time::Instant;
 
 /// Simulations whose calls fly in shared dispatches (see the module's docs).
 #[derive(Debug)]
@@ -164,7 +162,7 @@ impl GpuBatch {
             .unwrap_or_else(|_| Err(GpuError::Device("the dispatch failed (a panic)".into())));
             match dispatched {
                 Ok((raw, timing)) => {
-                    let particles = calls.iter().map(|c| c.slots.len() + c.scene.births[3] as usize).sum();
+                    let particles = calls.iter().map(MemberCall::particles).sum();
                     flight.note(calls[0].epochs.len(), particles, timing);
                     for ((id, raw), call) in ids.into_iter().zip(raw).zip(calls) {
                         state.answers[id] = Some(Ok((raw, call)));
@@ -218,10 +216,7 @@ impl BatchMember {
         let (raw, call) = self.batch.submit(self.id, call).map_err(GpuError::Device)?;
         *mirror = Some(layout);
         drop(mirror);
-        let reported = Instant::now();
-        let out = report(job, &call.scene, &raw);
-        self.batch.flight.note_report(reported.elapsed().as_secs_f64());
-        Ok(out)
+        Ok(self.batch.flight.report(job, &call, &raw))
     }
 }
 

@@ -135,9 +135,14 @@ pub(crate) struct MemberCall {
 }
 
 impl MemberCall {
-    /// Its particle slots, the swarm's and the newborns', padded to whole workgroups.
+    /// Its particles: the swarm's, then the newborns' (`scene.births`).
+    pub fn particles(&self) -> usize {
+        self.slots.len() + self.scene.births[3] as usize
+    }
+
+    /// Its particle slots, padded to whole workgroups.
     pub fn padded_slots(&self) -> u64 {
-        (self.slots.len() as u64 + u64::from(self.scene.births[3])).next_multiple_of(u64::from(WORKGROUP))
+        (self.particles() as u64).next_multiple_of(u64::from(WORKGROUP))
     }
 }
 
@@ -359,7 +364,7 @@ fn split(
             let own = &order[from(first)..from(end)];
             let (slot, counter) = (place.slot as usize, place.counters as usize);
             Raw {
-                slots: flown[slot..slot + m.slots.len() + m.scene.births[3] as usize].to_vec(),
+                slots: flown[slot..slot + m.particles()].to_vec(),
                 counters: words[counter..counter + m.counters.len()].to_vec(),
                 listed: own
                     .iter()

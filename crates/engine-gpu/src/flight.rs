@@ -168,13 +168,6 @@ impl GpuFlight {
         held.iter().filter_map(Weak::upgrade).find(|m| Arc::as_ptr(m).cast::<()>() == at)
     }
 
-    /// Adds the time a report took (s) to the profile.
-    pub(crate) fn note_report(&self, seconds: f64) {
-        if let Ok(mut p) = self.profile.lock() {
-            p.report += seconds;
-        }
-    }
-
     /// Particle slots one dispatch holds at most: one binding's worth, less the workgroup of
     /// padding a member's slots may take.
     pub(crate) fn slots_per_dispatch(&self) -> usize {
@@ -189,19 +182,24 @@ impl GpuFlight {
     /// newborns', in id order), to check the kernels against the engine's closed forms.
     pub fn fly_traced(&self, job: &FlightJob<'_>) -> Result<(FlightReport, Vec<Particle>), GpuError> {
         let (call, raw) = self.dispatch_one(job)?;
-        let reported = Instant::now();
-        let out = report(job, &call.scene, &raw);
-        self.note_report(reported.elapsed().as_secs_f64());
-        Ok((out, raw.slots.iter().map(GpuParticle::particle).collect()))
+        Ok((self.report(job, &call, &raw), raw.slots.iter().map(GpuParticle::particle).collect()))
     }
 
     /// Runs `job` on the GPU, as a dispatch of one member.
     fn run(&self, job: &FlightJob<'_>) -> Result<FlightReport, GpuError> {
         let (call, raw) = self.dispatch_one(job)?;
+        Ok(self.report(job, &call, &raw))
+    }
+
+    /// The report of `job`, laid out as `call`, from what its member read back (`raw`), its
+    /// time added to the profile.
+    pub(crate) fn report(&self, job: &FlightJob<'_>, call: &MemberCall, raw: &Raw) -> FlightReport {
         let reported = Instant::now();
-        let out = report(job, &call.scene, &raw);
-        self.note_report(reported.elapsed().as_secs_f64());
-        Ok(out)
+        let out = report(job, &call.scene, raw);
+        if let Ok(mut p) = self.profile.lock() {
+            p.report += reported.elapsed().as_secs_f64();
+        }
+        out
     }
 
     /// Lays `job` out and dispatches it alone; returns its call and what it read back.
@@ -220,7 +218,7 @@ impl GpuFlight {
             dispatch::dispatch(&self.gpu, &self.kernels, &mut s.buffers, call.scene.cells, calls)?;
         s.mirror = Some(layout);
         drop(s);
-        self.note(call.epochs.len(), call.slots.len() + call.scene.births[3] as usize, timing);
+        self.note(call.epochs.len(), call.particles(), timing);
         let raw = raw.pop().ok_or_else(|| GpuError::Readback("no member read back".into()))?;
         Ok((call, raw))
     }
