@@ -353,7 +353,7 @@ fn batched<S: BorrowMut<Simulation>>(
     sims: &[S],
     on_gpu: &[usize],
 ) -> Result<Vec<Option<Arc<BatchMember>>>, GpuError> {
-    let limit = flight.gpu.device.limits().max_storage_buffer_binding_size;
+    let limit = flight.gpu.binding_bytes();
     let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
     let mut start = 0;
     while start < on_gpu.len() {

@@ -32,7 +32,9 @@ pub struct Gpu {
 
 impl Gpu {
     /// Opens a device on the first Vulkan adapter (the fastest, where there are several), or on
-    /// a software one where `options` asks; `WGPU_ADAPTER_NAME` picks one by name.
+    /// a software one where `options` asks; `WGPU_ADAPTER_NAME` picks one by name. The device
+    /// takes the adapter's own largest storage binding and buffer (the default limits
+    /// elsewhere), and its timestamps between kernels where it writes them inside passes.
     pub fn open(options: &GpuOptions) -> Result<Gpu, GpuError> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = wgpu::Backends::VULKAN;
@@ -45,16 +47,37 @@ impl Gpu {
             apply_limit_buckets: false,
         }))
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        // The adapter's own binding and buffer sizes (a GPU's are often larger than the
+        // default 128 MiB, so that more scenes share a dispatch), and the timestamps between
+        // kernels where it writes them, for the profile.
+        let offered = adapter.limits();
+        let required_limits = wgpu::Limits {
+            max_storage_buffer_binding_size: offered.max_storage_buffer_binding_size,
+            max_buffer_size: offered.max_buffer_size,
+            ..wgpu::Limits::default()
+        };
+        let required_features = adapter.features() & crate::timing::TIMESTAMPS;
+        let required_features = if required_features == crate::timing::TIMESTAMPS {
+            required_features
+        } else {
+            wgpu::Features::empty()
+        };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("spraysim-gpu"),
-            required_features: wgpu::Features::empty(),
-            required_limits: wgpu::Limits::default(),
+            required_features,
+            required_limits,
             experimental_features: wgpu::ExperimentalFeatures::disabled(),
             memory_hints: wgpu::MemoryHints::Performance,
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| GpuError::Device(e.to_string()))?;
         Ok(Gpu { adapter, device, queue })
+    }
+
+    /// The most bytes one storage binding holds on this device, a multiple of 16 (the limit may
+    /// be 4 GiB − 1 bytes, and a binding's size is a multiple of 4).
+    pub fn binding_bytes(&self) -> u64 {
+        self.device.limits().max_storage_buffer_binding_size & !15
     }
 
     /// The adapter's name, driver and backend, e.g. `llvmpipe (LLVM 15.0.6, 256 bits), Mesa

@@ -10,6 +10,7 @@ use crate::pack::{
     self, BYTES_PER_SLOT, GLOBAL_COUNTER_WORDS, GpuParticle, MEMBER_WORDS, OBSTACLE_COUNTER_WORDS, Place,
     ROW_GROUPS, TABLE_WORDS, TALLY_WORDS, TARGET_COUNTER_WORDS, WORKGROUP,
 };
+use crate::timing::{Kernel, KernelTimes, Stamps, Timing};
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
@@ -101,6 +102,11 @@ pub(crate) struct Buffers {
     plan: Option<wgpu::Buffer>,
     wear: Option<wgpu::Buffer>,
     readback: Option<wgpu::Buffer>,
+    /// The kernels' timestamps, where the device writes them.
+    stamps: Option<Stamps>,
+    /// Cells listed that a dispatch reads back with the kernels' results (those past them take
+    /// a second copy): as many again as the last dispatch listed.
+    listed_guess: u32,
     /// Cells of all grids the layers' buffer is laid out for (each half: these and a spare).
     pub layer_cells: Option<u32>,
 }
@@ -159,16 +165,6 @@ pub(crate) struct Raw {
     pub wear: Vec<[u32; 4]>,
 }
 
-/// Where a dispatch's time went, s.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Timing {
-    pub upload: f64,
-    pub kernels: f64,
-    pub cells: f64,
-    /// Members, and of those the ones whose layers were uploaded whole.
-    pub members: (u64, u64),
-}
-
 /// Bytes a cell of the layers takes in the largest binding of a dispatch: its counters (16), or
 /// its wear (32) where a target `erodes`.
 pub(crate) fn bytes_per_cell(erodes: bool) -> u64 {
@@ -200,7 +196,7 @@ pub(crate) fn dispatch(
     if b.layer_cells != Some(cells) && !whole {
         return Err(GpuError::Device("the GPU's copy of the layers is not laid out for this call".into()));
     }
-    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let limit = gpu.binding_bytes();
     // Each member's slots fill whole workgroups.
     let slots: u64 = members.iter().map(MemberCall::padded_slots).sum();
     let per_cell = bytes_per_cell(members.iter().any(|m| m.scene.erodes));
@@ -218,35 +214,127 @@ pub(crate) fn dispatch(
     }
     let erodes = members.iter().any(|m| m.scene.erodes);
     let bind = upload(gpu, kernels, b, (&laid, members), (cells, erodes), &epochs)?;
-    let counter_bytes = 4 * laid.counters.len() as u64;
-    let particle_bytes = BYTES_PER_SLOT as u64 * u64::from(laid.slots);
-    let readback = grow(&gpu.device, &mut b.readback, particle_bytes + counter_bytes, READBACK);
     let uploaded = Instant::now();
-    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-    record(&mut encoder, kernels, &bind, (params_stride(gpu), epochs.len()), (laid.slots, cells));
-    encoder.copy_buffer_to_buffer(some(&b.particles)?, 0, &readback, 0, particle_bytes);
-    encoder.copy_buffer_to_buffer(some(&b.counters)?, 0, &readback, particle_bytes, counter_bytes);
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = read(gpu, &readback, particle_bytes + counter_bytes)?;
-    let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..particle_bytes as usize]);
-    let words: &[u32] = bytemuck::cast_slice(&bytes[particle_bytes as usize..]);
+    let read = submit(gpu, kernels, b, &bind, (&laid, epochs.len()), (cells, erodes))?;
     let flew = Instant::now();
+    let (flown, words) = read.flown();
+    // The cells listed past those read back with the kernels' results: a second copy.
+    let (mut listed, mut wear) = read.listed();
     let count = words[0];
-    let listed: Vec<[u32; 4]> = if count == 0 {
-        Vec::new()
-    } else {
+    let second_copy = count as usize > listed.len();
+    if second_copy {
+        let from = listed.len() as u32;
         let source = some(&b.listed)?.clone();
-        bytemuck::cast_slice(&copy_out(gpu, b, &source, 0, 16 * u64::from(count))?).to_vec()
-    };
-    let wear = if erodes { listed_wear(gpu, b, cells, count)? } else { Vec::new() };
+        let rest = copy_out(gpu, b, &source, 16 * u64::from(from), 16 * u64::from(count - from))?;
+        listed.extend_from_slice(bytemuck::cast_slice(&rest));
+        if erodes {
+            wear.extend(listed_wear(gpu, b, cells, (from, count))?);
+        }
+    }
+    listed.truncate(count as usize);
+    wear.truncate(count as usize);
+    b.listed_guess = expected_listed(count);
     let raw = split(members, &laid.places, (flown, words), (&listed, &wear));
     let timing = Timing {
         upload: (uploaded - start).as_secs_f64(),
         kernels: (flew - uploaded).as_secs_f64(),
         cells: flew.elapsed().as_secs_f64(),
+        second_copy,
         members: (members.len() as u64, whole_members),
+        gpu: read.gpu,
     };
     Ok((raw, timing))
+}
+
+/// Cells a dispatch reads back with the kernels' results, after one that listed `count`: as
+/// many again, for a call that touches more than the last.
+fn expected_listed(count: u32) -> u32 {
+    count.saturating_mul(2).max(256)
+}
+
+/// What a dispatch's submission read back in one copy: its particles, its counters, the
+/// kernels' timestamps, and the first of the cells it listed with their wear.
+struct ReadBack {
+    bytes: Vec<u8>,
+    /// Where the counters start, end, and where the listed cells start and their wear, bytes.
+    at: [usize; 4],
+    /// The kernels' GPU times, where they were timed.
+    gpu: Option<KernelTimes>,
+}
+
+impl ReadBack {
+    /// The particle slots and the counter words.
+    fn flown(&self) -> (&[GpuParticle], &[u32]) {
+        let [counters, end, ..] = self.at;
+        (bytemuck::cast_slice(&self.bytes[..counters]), bytemuck::cast_slice(&self.bytes[counters..end]))
+    }
+
+    /// The listed cells read back, and their wear (empty where no target erodes).
+    fn listed(&self) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
+        let [.., listed, wear] = self.at;
+        let cells = |b: &[u8]| bytemuck::cast_slice::<u8, [u32; 4]>(b).to_vec();
+        (cells(&self.bytes[listed..wear]), cells(&self.bytes[wear..]))
+    }
+}
+
+/// Records the kernels of a dispatch laid out as `laid` over `epochs` epochs and `cells` cells
+/// (bound as `bind`), submits them, and reads back in one copy its particles, counters and
+/// timestamps, with the cells listed up to [`Buffers::listed_guess`] and their wear (where a
+/// target `erodes`: the copies of the wear are cleared once copied, so that a later call's
+/// counters, which may lie there, start at zero).
+fn submit(
+    gpu: &Gpu,
+    kernels: &Kernels,
+    b: &mut Buffers,
+    bind: &wgpu::BindGroup,
+    (laid, epochs): (&LaidOut, usize),
+    (cells, erodes): (u32, bool),
+) -> Result<ReadBack, GpuError> {
+    if b.stamps.is_none() {
+        b.stamps = Stamps::new(&gpu.device);
+    }
+    let mut stamps = b.stamps.as_mut().filter(|_| Stamps::fit(epochs));
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    record(
+        &mut encoder,
+        kernels,
+        bind,
+        (params_stride(gpu), epochs),
+        (laid.slots, cells),
+        stamps.as_deref_mut(),
+    );
+    let particle_bytes = BYTES_PER_SLOT as u64 * u64::from(laid.slots);
+    let counted = particle_bytes + 4 * laid.counters.len() as u64;
+    let stamp_bytes = stamps.as_ref().map_or(0, |s| s.bytes());
+    let listed_bytes = 16 * u64::from(b.listed_guess.min(cells + 1));
+    let wear_bytes = if erodes { listed_bytes } else { 0 };
+    let at_listed = counted + stamp_bytes;
+    let total = at_listed + listed_bytes + wear_bytes;
+    let readback = grow(gpu, &mut b.readback, total, READBACK);
+    encoder.copy_buffer_to_buffer(some(&b.particles)?, 0, &readback, 0, particle_bytes);
+    encoder.copy_buffer_to_buffer(some(&b.counters)?, 0, &readback, particle_bytes, counted - particle_bytes);
+    if let Some(s) = &stamps {
+        s.resolve(&mut encoder);
+        encoder.copy_buffer_to_buffer(&s.resolved, 0, &readback, counted, stamp_bytes);
+    }
+    if listed_bytes > 0 {
+        encoder.copy_buffer_to_buffer(some(&b.listed)?, 0, &readback, at_listed, listed_bytes);
+    }
+    if wear_bytes > 0 {
+        let (wear, at) = (some(&b.wear)?, 16 * (u64::from(cells) + 1));
+        encoder.copy_buffer_to_buffer(wear, at, &readback, at_listed + listed_bytes, wear_bytes);
+        encoder.clear_buffer(wear, at, Some(wear_bytes));
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read(gpu, &readback, total)?;
+    let gpu_times = match &stamps {
+        Some(s) => {
+            Some(s.times(&bytes[counted as usize..at_listed as usize], gpu.queue.get_timestamp_period())?)
+        }
+        None => None,
+    };
+    let at = [particle_bytes, counted, at_listed, at_listed + listed_bytes].map(|a| a as usize);
+    Ok(ReadBack { bytes, at, gpu: gpu_times })
 }
 
 /// Uploads a dispatch laid out as `laid` (its members' layers into their regions of the second
@@ -264,15 +352,15 @@ fn upload(
     let (device, queue) = (&gpu.device, &gpu.queue);
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
     // Each member's swarm; `born` fills the slots after it.
-    let particles = grow(device, &mut b.particles, BYTES_PER_SLOT as u64 * u64::from(laid.slots), storage);
+    let particles = grow(gpu, &mut b.particles, BYTES_PER_SLOT as u64 * u64::from(laid.slots), storage);
     for (m, place) in members.iter().zip(&laid.places) {
         let at = BYTES_PER_SLOT as u64 * u64::from(place.slot);
         queue.write_buffer(&particles, at, bytemuck::cast_slice(&m.slots));
     }
-    let scene = grow(device, &mut b.scene, 4 * laid.words.len() as u64, storage);
+    let scene = grow(gpu, &mut b.scene, 4 * laid.words.len() as u64, storage);
     queue.write_buffer(&scene, 0, bytemuck::cast_slice(&laid.words));
     let half = u64::from(cells) + 1;
-    let layers = grow(device, &mut b.thickness, 8 * half, storage);
+    let layers = grow(gpu, &mut b.thickness, 8 * half, storage);
     b.layer_cells = Some(cells);
     for m in members {
         let at = half + u64::from(m.cell);
@@ -285,15 +373,15 @@ fn upload(
             }
         }
     }
-    let counters = grow(device, &mut b.counters, 4 * laid.counters.len() as u64, storage);
+    let counters = grow(gpu, &mut b.counters, 4 * laid.counters.len() as u64, storage);
     queue.write_buffer(&counters, 0, bytemuck::cast_slice(&laid.counters));
-    let plan = grow(device, &mut b.plan, 4 * laid.plan.len() as u64, storage);
+    let plan = grow(gpu, &mut b.plan, 4 * laid.plan.len() as u64, storage);
     queue.write_buffer(&plan, 0, bytemuck::cast_slice(&laid.plan));
     // New cell counters start at zero; `gather` leaves them so.
-    grow(device, &mut b.cells, 16 * half, storage);
-    grow(device, &mut b.listed, 16 * half, storage);
+    grow(gpu, &mut b.cells, 16 * half, storage);
+    grow(gpu, &mut b.listed, 16 * half, storage);
     // Where a target erodes: the cells' wear counters, then the listed cells' copies.
-    grow(device, &mut b.wear, if erodes { 32 * half } else { 16 }, storage);
+    grow(gpu, &mut b.wear, if erodes { 32 * half } else { 16 }, storage);
     let sizes = [members.len() as u32, laid.targets, cells, u32::from(erodes)];
     let stride = params_stride(gpu) as usize;
     let mut bytes = vec![0u8; stride * epochs.len()];
@@ -310,37 +398,49 @@ fn upload(
 }
 
 /// Records the kernels of a dispatch of `epochs` epochs (their parameters `stride` bytes
-/// apart) over `slots` particle slots and `cells` cells.
+/// apart) over `slots` particle slots and `cells` cells, with a timestamp after each where
+/// `stamps` is given.
 fn record(
     encoder: &mut wgpu::CommandEncoder,
     kernels: &Kernels,
     bind: &wgpu::BindGroup,
     (stride, epochs): (u64, usize),
     (slots, cells): (u32, u32),
+    mut stamps: Option<&mut Stamps>,
 ) {
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+    if let Some(s) = stamps.as_deref_mut() {
+        s.start(&mut pass);
+    }
+    let mut run = |pass: &mut wgpu::ComputePass<'_>, kernel: Kernel, (x, y): (u32, u32)| {
+        pass.set_pipeline(match kernel {
+            Kernel::Restore => &kernels.restore,
+            Kernel::Born => &kernels.born,
+            Kernel::Fly => &kernels.fly,
+            Kernel::Census => &kernels.census,
+            Kernel::Settle => &kernels.settle,
+            Kernel::Gather => &kernels.gather,
+        });
+        pass.dispatch_workgroups(x, y, 1);
+        if let Some(s) = stamps.as_deref_mut() {
+            s.after(pass, kernel);
+        }
+    };
     let grid = groups(cells + 1);
+    let particles = groups(slots);
     pass.set_bind_group(0, bind, &[0]);
-    pass.set_pipeline(&kernels.restore);
-    pass.dispatch_workgroups(grid.0, grid.1, 1);
-    let (x, y) = groups(slots);
-    pass.set_pipeline(&kernels.born);
-    pass.dispatch_workgroups(x, y, 1);
+    run(&mut pass, Kernel::Restore, grid);
+    run(&mut pass, Kernel::Born, particles);
     for e in 0..epochs {
         pass.set_bind_group(0, bind, &[(e as u64 * stride) as u32]);
-        pass.set_pipeline(&kernels.fly);
-        pass.dispatch_workgroups(x, y, 1);
-        pass.set_pipeline(&kernels.census);
-        pass.dispatch_workgroups(1, 1, 1);
+        run(&mut pass, Kernel::Fly, particles);
+        run(&mut pass, Kernel::Census, (1, 1));
         // After every epoch: between two, for the next one; after the last, for
         // `read_settled_layers` (the next call starts from the layers it is handed).
-        pass.set_pipeline(&kernels.settle);
-        pass.dispatch_workgroups(grid.0, grid.1, 1);
-        pass.set_pipeline(&kernels.census);
-        pass.dispatch_workgroups(1, 1, 1);
+        run(&mut pass, Kernel::Settle, grid);
+        run(&mut pass, Kernel::Census, (1, 1));
     }
-    pass.set_pipeline(&kernels.gather);
-    pass.dispatch_workgroups(grid.0, grid.1, 1);
+    run(&mut pass, Kernel::Gather, grid);
 }
 
 /// Each member's part of what a dispatch read back: its particles (of `flown`), its counter block
@@ -475,15 +575,20 @@ fn params_stride(gpu: &Gpu) -> u64 {
     PARAMS_BYTES.get().next_multiple_of(align.max(1))
 }
 
-/// The wear of the `count` cells listed (after the `cells` cells' counters), each as coating
-/// (low, high) and substrate (low, high), WEAR_QUANTUMs; the copies are cleared once read, so
-/// that a later call's counters, which may lie there, start at zero.
-fn listed_wear(gpu: &Gpu, b: &mut Buffers, cells: u32, count: u32) -> Result<Vec<[u32; 4]>, GpuError> {
-    if count == 0 {
+/// The wear of the cells listed `from` up to `to` (their copies lie after the `cells` cells'
+/// counters), each as coating (low, high) and substrate (low, high), WEAR_QUANTUMs; the copies
+/// are cleared once read, so that a later call's counters, which may lie there, start at zero.
+fn listed_wear(
+    gpu: &Gpu,
+    b: &mut Buffers,
+    cells: u32,
+    (from, to): (u32, u32),
+) -> Result<Vec<[u32; 4]>, GpuError> {
+    if to <= from {
         return Ok(Vec::new());
     }
     let wear = some(&b.wear)?.clone();
-    let (at, bytes) = (16 * (u64::from(cells) + 1), 16 * u64::from(count));
+    let (at, bytes) = (16 * (u64::from(cells) + 1 + u64::from(from)), 16 * u64::from(to - from));
     let data = copy_out(gpu, b, &wear, at, bytes)?;
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
     encoder.clear_buffer(&wear, at, Some(bytes));
@@ -510,7 +615,7 @@ fn copy_out(
     at: u64,
     bytes: u64,
 ) -> Result<Vec<u8>, GpuError> {
-    let readback = grow(&gpu.device, &mut b.readback, bytes, READBACK);
+    let readback = grow(gpu, &mut b.readback, bytes, READBACK);
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
     encoder.copy_buffer_to_buffer(source, at, &readback, 0, bytes);
     gpu.queue.submit([encoder.finish()]);
@@ -548,18 +653,14 @@ const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::Bu
 /// sixteenth more (within one binding's limit), so that a run whose calls grow a little at a
 /// time does not allocate at each, while a particle slot takes at most 36 × 17/16 = 38.3 bytes
 /// of the particles' buffer (the read-back buffer, in host-visible memory, holds as much again).
-fn grow(
-    device: &wgpu::Device,
-    slot: &mut Option<wgpu::Buffer>,
-    bytes: u64,
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
+fn grow(gpu: &Gpu, slot: &mut Option<wgpu::Buffer>, bytes: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
     let bytes = bytes.max(16).next_multiple_of(16);
     match slot {
         Some(b) if b.size() >= bytes => b.clone(),
         _ => {
-            let limit = device.limits().max_storage_buffer_binding_size.max(bytes);
-            let b = device.create_buffer(&wgpu::BufferDescriptor {
+            // The read-back buffer, never bound, may hold more than a binding.
+            let limit = gpu.binding_bytes().max(bytes);
+            let b = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: None,
                 size: (bytes + bytes / 16).next_multiple_of(16).min(limit),
                 usage,

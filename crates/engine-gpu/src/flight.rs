@@ -8,10 +8,11 @@ use crate::GpuError;
 use crate::batch::BatchMember;
 use crate::births;
 use crate::device::{Gpu, GpuOptions};
-use crate::dispatch::{self, Buffers, Kernels, Layers, MemberCall, Raw, Timing};
+use crate::dispatch::{self, Buffers, Kernels, Layers, MemberCall, Raw};
 use crate::pack::{self, BYTES_PER_SLOT, GpuParticle, Place, WORKGROUP};
 use crate::report::report;
 use crate::scope;
+use crate::timing::{Profile, Timing};
 use rayon::prelude::*;
 use spraysim_engine::deposit::DepositSurface;
 use spraysim_engine::particles::Particle;
@@ -39,66 +40,6 @@ struct Single {
     /// Per target, the identity of the layer the GPU's copy holds and its first cell there
     /// (None: the copy holds nothing known).
     mirror: Option<Vec<(u64, u32)>>,
-}
-
-/// Where the calls' time went, s, summed over the calls since the last
-/// [`GpuFlight::take_profile`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Profile {
-    /// Calls (dispatches; a batch's members share one).
-    pub calls: u64,
-    /// Layer epochs flown, in all calls.
-    pub epochs: u64,
-    /// Particles flown.
-    pub particles: u64,
-    /// Laying the calls out and uploading them (particles, scene, changed layers).
-    pub upload: f64,
-    /// From submitting the kernels (every epoch's) to their counters and particles read back:
-    /// the kernels' time, with the copies and the wait.
-    pub kernels: f64,
-    /// Reading back the cells listed (a second submission and wait).
-    pub cells: f64,
-    /// Turning what was read back into the engine's reports.
-    pub report: f64,
-    /// Members flown (simulations' calls: one a dispatch for a single run).
-    pub members: u64,
-    /// Of those, the ones whose layers were uploaded whole (the GPU's copy held nothing known of
-    /// them); the others uploaded only the cells changed since their last call.
-    pub whole: u64,
-}
-
-impl Profile {
-    /// Where the time went, per call, in words (for benchmarks).
-    pub fn describe(&self) -> String {
-        let calls = self.calls.max(1) as f64;
-        let per_call = |s: f64| 1e6 * s / calls;
-        format!(
-            "{} calls of {:.1} epochs and {:.0} particles: per call, upload {:.0} µs, kernels with counters and \
-             particles read back {:.0} µs, listed cells read back {:.0} µs, report {:.0} µs; layers uploaded \
-             whole for {} of {} members flown",
-            self.calls,
-            self.epochs as f64 / calls,
-            self.particles as f64 / calls,
-            per_call(self.upload),
-            per_call(self.kernels),
-            per_call(self.cells),
-            per_call(self.report),
-            self.whole,
-            self.members
-        )
-    }
-
-    /// Adds a dispatch of `epochs` epochs and `particles` particles that took `timing`.
-    pub(crate) fn add(&mut self, epochs: usize, particles: usize, timing: Timing) {
-        self.calls += 1;
-        self.epochs += epochs as u64;
-        self.particles += particles as u64;
-        self.upload += timing.upload;
-        self.kernels += timing.kernels;
-        self.cells += timing.cells;
-        self.members += timing.members.0;
-        self.whole += timing.members.1;
-    }
 }
 
 impl GpuFlight {
@@ -171,7 +112,7 @@ impl GpuFlight {
     /// Particle slots one dispatch holds at most: one binding's worth, less the workgroup of
     /// padding a member's slots may take.
     pub(crate) fn slots_per_dispatch(&self) -> usize {
-        let limit = self.gpu.device.limits().max_storage_buffer_binding_size;
+        let limit = self.gpu.binding_bytes();
         usize::try_from(limit / BYTES_PER_SLOT as u64)
             .unwrap_or(usize::MAX)
             .saturating_sub(WORKGROUP as usize)

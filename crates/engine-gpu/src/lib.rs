@@ -58,13 +58,15 @@ mod flight;
 mod pack;
 mod report;
 mod scope;
+mod timing;
 
 pub use batch::{BatchMember, GpuBatch, run_together, step_together};
 pub use device::{EPOCHS_PER_CALL, Gpu, GpuOptions};
-pub use flight::{GpuFlight, Profile};
+pub use flight::GpuFlight;
 pub use pack::BYTES_PER_SLOT;
 pub use scope::{MAX_COEFFICIENTS, MAX_FOOTPRINT, MAX_IMPACTS_PER_STEP, MAX_SIEVES, Unsupported, check};
 pub use spraysim_engine::pipeline::FlightStage;
+pub use timing::{KernelTimes, Profile};
 
 /// Why the GPU backend cannot run.
 #[derive(Debug, thiserror::Error)]

@@ -250,6 +250,7 @@ fn the_gpu_copy_of_the_layers_follows_them_cell_for_cell() {
     let sc = failing_layer(0.8, 1);
     let mut sim = sc.build().expect("builds");
     sim.set_flight_stage(Some(gpu.clone()));
+    gpu.take_profile();
     let layers = |s: &Simulation| -> Vec<f32> {
         s.targets().iter().flat_map(|t| t.surface.thickness().iter().map(|&x| x as f32)).collect()
     };
@@ -270,6 +271,11 @@ fn the_gpu_copy_of_the_layers_follows_them_cell_for_cell() {
         "{checked} epochs, {} failures",
         sim.failures().len()
     );
+    // The split calls list few cells and the rest many, so that some calls read back their
+    // listed cells with the kernels' results and others (the first, and those that listed more
+    // than twice as many as the call before) take a second copy for the rest.
+    let p = gpu.take_profile();
+    assert!(p.second_copies > 1 && p.second_copies < p.calls, "{} of {} calls", p.second_copies, p.calls);
     // The same run handed an epoch a call gives the same bits: the second part of a split
     // epoch reads the layers as the epoch found them, not with the first part's deposits.
     let mut whole = sc.build().expect("builds");
