@@ -111,13 +111,14 @@ pub(crate) struct Buffers {
     pub layer_cells: Option<u32>,
 }
 
-/// How a member's layers reach the GPU's copy, as the call finds them.
+/// How a member's layers reach the GPU's copy, as the call finds them: spans of cells, each
+/// from its first cell (over the member's grids).
 #[derive(Debug)]
 pub(crate) enum Layers {
-    /// Every cell of its grids (the copy holds nothing known of them).
-    Whole(Vec<f32>),
-    /// Only these spans, each from its first cell (over the member's grids): the copy holds the
-    /// rest as the call finds it.
+    /// Every cell of its grids anew (the copy holds nothing known of them): zero, filled on the
+    /// GPU, but for these spans.
+    Whole(Vec<(u32, Vec<f32>)>),
+    /// Only these spans: the copy holds the rest as the call finds it.
     Spans(Vec<(u32, Vec<f32>)>),
 }
 
@@ -362,15 +363,22 @@ fn upload(
     let half = u64::from(cells) + 1;
     let layers = grow(gpu, &mut b.thickness, 8 * half, storage);
     b.layer_cells = Some(cells);
+    // The regions rebuilt whole are zeroed in a submission of their own, before the writes
+    // (which the queue makes at the start of the next submission) put their spans over them.
+    let mut zeroed =
+        members.iter().filter(|m| matches!(m.layers, Layers::Whole(_)) && m.scene.cells > 0).peekable();
+    if zeroed.peek().is_some() {
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        for m in zeroed {
+            encoder.clear_buffer(&layers, 4 * (half + u64::from(m.cell)), Some(4 * u64::from(m.scene.cells)));
+        }
+        queue.submit([encoder.finish()]);
+    }
     for m in members {
         let at = half + u64::from(m.cell);
-        match &m.layers {
-            Layers::Whole(all) => queue.write_buffer(&layers, 4 * at, bytemuck::cast_slice(all)),
-            Layers::Spans(spans) => {
-                for (first, span) in spans {
-                    queue.write_buffer(&layers, 4 * (at + u64::from(*first)), bytemuck::cast_slice(span));
-                }
-            }
+        let (Layers::Whole(spans) | Layers::Spans(spans)) = &m.layers;
+        for (first, span) in spans {
+            queue.write_buffer(&layers, 4 * (at + u64::from(*first)), bytemuck::cast_slice(span));
         }
     }
     let counters = grow(gpu, &mut b.counters, 4 * laid.counters.len() as u64, storage);

@@ -202,7 +202,8 @@ pub(crate) fn lay_out(job: &FlightJob<'_>) -> Result<(MemberCall, Vec<(u64, u32)
 /// How `job`'s layers (laid out as `scene`, their identities and first cells `layout`) reach a
 /// GPU copy that holds the layers `held` (None: nothing known): only the spans that changed
 /// since it was made, each from its first cell over the member's grids, where it holds these
-/// very layers and the engine kept track of every change; else whole.
+/// very layers and the engine kept track of every change; else whole (zero on the GPU, and
+/// each layer's span of non-zero cells written over it).
 pub(crate) fn layers(
     job: &FlightJob<'_>,
     scene: &pack::SceneWords,
@@ -210,7 +211,7 @@ pub(crate) fn layers(
     layout: &[(u64, u32)],
 ) -> Layers {
     if held != Some(layout) || job.revised.iter().any(Option::is_none) {
-        return Layers::Whole(pack::thicknesses(job));
+        return Layers::Whole(pack::nonzero_spans(job, &scene.first_cells));
     }
     let mut out = Vec::new();
     for ((target, revised), &first) in job.targets.iter().zip(job.revised).zip(&scene.first_cells) {

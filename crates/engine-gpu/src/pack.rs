@@ -402,13 +402,22 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
     }
 }
 
-/// The layers' thicknesses of every target, joined, m.
-pub fn thicknesses(job: &FlightJob<'_>) -> Vec<f32> {
+/// Each target's layer as spans to write over zero, m: per grid (meshes have none), the cells
+/// from its first to its last that is not zero, from the first cell of its grid at `first_cells`
+/// (over the member's grids); none for a bare layer. The GPU fills the rest of a rebuilt copy
+/// with zero, so a fresh run's bare layers cross no bus.
+pub fn nonzero_spans(job: &FlightJob<'_>, first_cells: &[u32]) -> Vec<(u32, Vec<f32>)> {
+    let grids = job.targets.iter().filter(|t| !matches!(t.surface, Surface::Mesh(_)));
     let mut out = Vec::new();
-    for t in job.targets {
-        if !matches!(t.surface, Surface::Mesh(_)) {
-            out.extend(t.surface.thickness().iter().map(|&x| x as f32));
-        }
+    for (t, &first) in grids.zip(first_cells) {
+        let layer = t.surface.thickness();
+        // Bits, not values: a −0 is written as it stands, as a whole copy would.
+        let (Some(lo), Some(hi)) =
+            (layer.iter().position(|x| x.to_bits() != 0), layer.iter().rposition(|x| x.to_bits() != 0))
+        else {
+            continue;
+        };
+        out.push((first + lo as u32, layer[lo..=hi].iter().map(|&x| x as f32).collect()));
     }
     out
 }
