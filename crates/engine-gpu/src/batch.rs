@@ -32,6 +32,9 @@ pub struct GpuBatch {
     flight: Arc<GpuFlight>,
     /// Each member's first cell in the layers' buffer.
     regions: Vec<u32>,
+    /// The cells of each region, and whether a target of its member erodes (see
+    /// [`BatchMember::fits`]).
+    grids: Vec<(u64, bool)>,
     /// Cells of all members' grids.
     cells: u32,
     state: Mutex<State>,
@@ -90,25 +93,25 @@ impl GpuBatch {
         let batch = Arc::new(GpuBatch {
             flight: flight.clone(),
             regions,
+            grids,
             cells,
             state: Mutex::new(state),
             answered: Condvar::new(),
         });
-        let members: Vec<Arc<BatchMember>> = grids
-            .into_iter()
-            .enumerate()
-            .map(|(id, grids)| {
-                Arc::new(BatchMember {
-                    batch: batch.clone(),
-                    id,
-                    grids,
-                    mirror: Mutex::new(None),
-                    left: AtomicBool::new(false),
-                })
-            })
-            .collect();
+        let members: Vec<Arc<BatchMember>> =
+            (0..sims.len()).map(|id| BatchMember::new(&batch, id, false)).collect();
         flight.register(&members);
         Ok(members)
+    }
+
+    /// A new member for region `id`, whose member has gone (dropped with its simulation), for a
+    /// simulation whose grids fit the region: it joins the batch, and its first call rebuilds the
+    /// region's copy of the layers.
+    fn adopt(self: &Arc<GpuBatch>, id: usize) -> Arc<BatchMember> {
+        let member = BatchMember::new(self, id, true);
+        member.rejoin();
+        self.flight.register(std::slice::from_ref(&member));
+        member
     }
 
     fn lock(&self) -> MutexGuard<'_, State> {
@@ -180,6 +183,18 @@ impl GpuBatch {
 }
 
 impl BatchMember {
+    /// Member `id` of `batch`, its region's copy of the layers unknown to it; one that has
+    /// `left` is not waited for until it rejoins.
+    fn new(batch: &Arc<GpuBatch>, id: usize, left: bool) -> Arc<BatchMember> {
+        Arc::new(BatchMember {
+            batch: batch.clone(),
+            id,
+            grids: batch.grids[id],
+            mirror: Mutex::new(None),
+            left: AtomicBool::new(left),
+        })
+    }
+
     /// Joins the batch again after leaving it: the others wait for this member's calls again.
     pub fn rejoin(&self) {
         if self.left.swap(false, Ordering::SeqCst) {
@@ -280,8 +295,9 @@ fn grid_cells(sim: &Simulation) -> u64 {
 /// Advances `sims` together, each on a thread of its own by `advance(k, sim)` (called until it
 /// returns false or `stop` is set), those with a flight stage with their calls flown in shared
 /// dispatches on `flight`, the others on the engine's own flight; each leaves its batch when
-/// done. Where every one with a stage is already a member of a batch on `flight` that still
-/// fits it and `reuse` is set, they rejoin their batches; else they go in new ones. Hands the
+/// done. Where `reuse` is set and every one with a stage is a member of a batch on `flight`
+/// that still fits it, or can take a gone member's region in those batches, they rejoin their
+/// batches; else they go in new ones. Hands the
 /// simulations back, their stages their batch members.
 fn together<S: BorrowMut<Simulation> + Send>(
     flight: &Arc<GpuFlight>,
@@ -291,7 +307,7 @@ fn together<S: BorrowMut<Simulation> + Send>(
     advance: impl Fn(usize, &mut Simulation) -> bool + Sync,
 ) -> Result<Vec<S>, GpuError> {
     let on_gpu: Vec<usize> = (0..sims.len()).filter(|&k| sims[k].borrow().flight_stage().is_some()).collect();
-    let held = reuse.then(|| rejoined(flight, &sims, &on_gpu)).flatten();
+    let held = reuse.then(|| rejoined(flight, &mut sims, &on_gpu)).flatten();
     let members = match held {
         Some(members) => members,
         None => {
@@ -325,24 +341,47 @@ fn together<S: BorrowMut<Simulation> + Send>(
 }
 
 /// The batch members that the simulations `on_gpu` of `sims` have as their stages, each
-/// rejoined to its batch, if every one has one of its own on `flight` that still fits it (a
-/// copy of a simulation shares its stage, and needs a member of its own); else `None`.
+/// rejoined to its batch, where every one has one of its own on `flight` that still fits it (a
+/// copy of a simulation shares its stage, and needs a member of its own) or can take the region
+/// of one that has gone in those batches (an environment reset into a new simulation, whose
+/// region alone is rebuilt); else `None`. Those that took a region get its member as their stage.
 fn rejoined<S: BorrowMut<Simulation>>(
     flight: &GpuFlight,
-    sims: &[S],
+    sims: &mut [S],
     on_gpu: &[usize],
 ) -> Option<Vec<Option<Arc<BatchMember>>>> {
     let mut members: Vec<Option<Arc<BatchMember>>> = (0..sims.len()).map(|_| None).collect();
     let mut seen = std::collections::HashSet::new();
+    let mut newcomers = Vec::new();
     for &k in on_gpu {
         let sim = sims[k].borrow();
-        let member = flight.member(sim.flight_stage()?).filter(|m| m.fits(sim))?;
-        if !seen.insert(Arc::as_ptr(&member)) {
-            return None;
+        match sim.flight_stage().and_then(|s| flight.member(s)).filter(|m| m.fits(sim)) {
+            Some(m) if seen.insert(Arc::as_ptr(&m)) => members[k] = Some(m),
+            _ => newcomers.push(k),
         }
-        members[k] = Some(member);
+    }
+    // The regions of those batches whose members have gone.
+    let live = flight.live_members();
+    let mut free: Vec<(Arc<GpuBatch>, usize)> = Vec::new();
+    for m in members.iter().flatten() {
+        if free.iter().any(|(b, _)| Arc::ptr_eq(b, &m.batch)) || newcomers.is_empty() {
+            continue;
+        }
+        let taken = |id: usize| live.iter().any(|l| Arc::ptr_eq(&l.batch, &m.batch) && l.id == id);
+        free.extend((0..m.batch.regions.len()).filter(|&id| !taken(id)).map(|id| (m.batch.clone(), id)));
+    }
+    let mut places = Vec::with_capacity(newcomers.len());
+    for &k in &newcomers {
+        let grids = (grid_cells(sims[k].borrow()), erodes(sims[k].borrow()));
+        let at = free.iter().position(|(b, id)| b.grids[*id] == grids)?;
+        places.push(free.swap_remove(at));
     }
     members.iter().flatten().for_each(|m| m.rejoin());
+    for (k, (batch, id)) in newcomers.into_iter().zip(places) {
+        let member = batch.adopt(id);
+        sims[k].borrow_mut().set_flight_stage(Some(member.clone() as Arc<dyn FlightStage>));
+        members[k] = Some(member);
+    }
     Some(members)
 }
 
@@ -416,9 +455,11 @@ pub fn run_together<T: Send>(
 /// Those on the GPU keep their batch members as their stages, so that the next call with the
 /// same simulations (or some of them) finds its batches again: their storage, and their copies
 /// of the layers, which only the cells changed since then need to reach. A simulation whose
-/// stage is no member of a batch on `flight`, or whose grids no longer fit its member's region
-/// (a rebuild on another scene), puts all of them in new batches. A member stepped on its own
-/// in between flies alone.
+/// stage is no member of a batch on `flight` (an environment reset into a new one) takes the
+/// region of a member of those batches that has gone (dropped with its simulation) whose grids
+/// it fits, so that only that region is rebuilt; one that finds none, or whose grids no longer
+/// fit its member's region (a rebuild on another scene), puts all of them in new batches. A
+/// member stepped on its own in between flies alone.
 pub fn step_together(
     flight: &Arc<GpuFlight>,
     sims: &mut [&mut Simulation],

@@ -102,6 +102,12 @@ impl GpuFlight {
         held.extend(members.iter().map(Arc::downgrade));
     }
 
+    /// The batch members made on this stage that are still held (by their simulations).
+    pub(crate) fn live_members(&self) -> Vec<Arc<BatchMember>> {
+        let held = self.members.lock().unwrap_or_else(PoisonError::into_inner);
+        held.iter().filter_map(Weak::upgrade).collect()
+    }
+
     /// The batch member made on this stage that `stage` is, if it is one.
     pub(crate) fn member(&self, stage: &Arc<dyn FlightStage>) -> Option<Arc<BatchMember>> {
         let at = Arc::as_ptr(stage).cast::<()>();

@@ -168,6 +168,57 @@ fn stepping_together_gives_the_bits_of_stepping_each_alone() {
 }
 
 #[test]
+fn a_simulation_that_replaces_one_stepped_together_takes_its_region_and_the_others_stay() {
+    // Its own stage: its profile counts this test's dispatches alone.
+    let Some(gpu) = common::own_gpu().map(Arc::new) else { return };
+    let steps = 37;
+    let on_gpu = |sc: &Scenario| {
+        let mut sim = sc.build().expect("builds");
+        sim.set_flight_stage(Some(gpu.clone()));
+        sim
+    };
+    let alone = |sc: &Scenario| {
+        let mut sim = on_gpu(sc);
+        while !sim.is_finished() {
+            sim.advance(steps.min(sim.total_steps() - sim.steps_done()));
+        }
+        outcome(&sim)
+    };
+    // Three environments; after two vectorised steps the second is reset into a new run of the
+    // same grids (another seed and length), as an environment whose episode ended.
+    let scenarios = [shotcrete(0.2, 41), shotcrete(0.2, 42), shotcrete(0.2, 43)];
+    let replacement = shotcrete(0.15, 44);
+    let expected = [alone(&scenarios[0]), alone(&replacement), alone(&scenarios[2])];
+    let mut sims: Vec<Simulation> = scenarios.iter().map(on_gpu).collect();
+    let stop = AtomicBool::new(false);
+    let stage = |s: &Simulation| s.flight_stage().map(|g| Arc::as_ptr(g).cast::<()>());
+    let step = |sims: &mut [Simulation]| {
+        let mut refs: Vec<&mut Simulation> = sims.iter_mut().collect();
+        spraysim_gpu::step_together(&gpu, &mut refs, steps, &stop).expect("steps");
+    };
+    step(&mut sims);
+    step(&mut sims);
+    let before: Vec<_> = sims.iter().map(stage).collect();
+    // Its region's copy of the layers holds the run it replaces: the first call must rebuild it.
+    sims[1] = on_gpu(&replacement);
+    gpu.take_profile();
+    step(&mut sims);
+    let p = gpu.take_profile();
+    let after: Vec<_> = sims.iter().map(stage).collect();
+    assert!(after[0] == before[0] && after[2] == before[2], "the others stay in their batch");
+    assert!(after[1].is_some() && after[1] != before[1], "the new run flies as a member of its own");
+    assert_eq!(p.whole, 1, "only the new run's region is rebuilt ({} members flown)", p.members);
+    assert!(sims[1].flight_stage().is_some_and(|s| s.describe().ends_with("in a batch of 3")));
+    while sims.iter().any(|s| !s.is_finished()) {
+        step(&mut sims);
+    }
+    for (k, (sim, e)) in sims.iter().zip(&expected).enumerate() {
+        assert_eq!(sim.flight_stage_error(), None, "environment {k}");
+        assert!(outcome(sim) == *e, "environment {k} stepped together differs from its steps alone");
+    }
+}
+
+#[test]
 fn copies_of_a_simulation_stepped_together_fly_as_members_of_their_own() {
     let Some(gpu) = common::own_gpu().map(Arc::new) else { return };
     let stop = AtomicBool::new(false);

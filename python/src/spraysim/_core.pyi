@@ -465,6 +465,8 @@ def step_together(sims: Sequence[Simulation], n: Optional[int] = None) -> None:
     equal stepping it alone. The simulations must be distinct; each is busy until all are done.
     Those on the GPU stay in their batch until the next call, which finds its storage and its
     copy of their layers again (only the cells changed since then are uploaded), as long as it
-    is handed the same simulations or some of them; a new one among them (an environment reset
-    into a new ``Simulation``) puts them all in new batches. Ctrl-C raises
+    is handed the same simulations or some of them. A new one among them (an environment reset
+    into a new ``Simulation``) takes the place of one that is gone (no longer referenced) whose
+    grids it fits, and only its own layers are uploaded; where there is none, all of them go in
+    new batches. Ctrl-C raises
     ``KeyboardInterrupt`` once the calls under way end."""
