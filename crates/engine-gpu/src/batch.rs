@@ -466,8 +466,7 @@ pub fn step_together(
     steps: u64,
     stop: &AtomicBool,
 ) -> Result<(), GpuError> {
-    let goals: Vec<u64> =
-        sims.iter().map(|s| s.steps_done().saturating_add(steps).min(s.total_steps())).collect();
+    let goals: Vec<u64> = sims.iter().map(|s| s.steps_ahead(steps)).collect();
     let borrowed: Vec<&mut Simulation> = sims.iter_mut().map(|s| &mut **s).collect();
     together(flight, borrowed, stop, true, |k, sim| {
         // A call ends by itself at its epoch's (or its stage's) end.

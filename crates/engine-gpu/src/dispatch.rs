@@ -144,7 +144,7 @@ pub(crate) struct MemberCall {
 impl MemberCall {
     /// Its particles: the swarm's, then the newborns' (`scene.births`).
     pub fn particles(&self) -> usize {
-        self.slots.len() + self.scene.births[3] as usize
+        self.slots.len() + self.scene.births.newborns as usize
     }
 
     /// Its particle slots, padded to whole workgroups.

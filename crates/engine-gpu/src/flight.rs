@@ -185,7 +185,12 @@ pub(crate) fn lay_out(job: &FlightJob<'_>) -> Result<(MemberCall, Vec<(u64, u32)
     let slots: Vec<GpuParticle> = job.particles.par_iter().map(|p| GpuParticle::of(p, job)).collect();
     // The births after the scene's own words; the newborns are sampled on the GPU.
     let born = births::words(job)?;
-    scene.births = [scene.words.len() as u32, born.batches, slots.len() as u32, born.newborns];
+    scene.births = pack::BirthPlace {
+        emitter: scene.words.len() as u32,
+        batches: born.batches,
+        swarm: slots.len() as u32,
+        newborns: born.newborns,
+    };
     scene.words.extend(born.words);
     let counters = pack::counters(
         &scene,

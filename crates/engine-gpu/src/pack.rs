@@ -140,10 +140,21 @@ pub struct SceneWords {
     pub cells: u32,
     /// Whether any target erodes.
     pub erodes: bool,
-    /// Where its births lie: the offset of the emitter's words (the batches of births after
-    /// them), the batches, the slots of its swarm (uploaded) and the newborns after them
-    /// (sampled by the `born` kernel); see `births.rs`.
-    pub births: [u32; 4],
+    /// Where its births lie (see `births.rs`).
+    pub births: BirthPlace,
+}
+
+/// Where a member's births lie among its words and slots.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BirthPlace {
+    /// Offset of the emitter's words in the member's own words; the batches of births follow.
+    pub emitter: u32,
+    /// Batches of births (steps that spray).
+    pub batches: u32,
+    /// Slots of its swarm (uploaded), which the newborns follow.
+    pub swarm: u32,
+    /// Newborns, sampled in their slots by the `born` kernel.
+    pub newborns: u32,
 }
 
 pub(crate) fn put_f(w: &mut [u32], at: usize, x: f64) {
@@ -398,7 +409,7 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         first_cells,
         cells,
         erodes: config.targets.iter().any(|t| t.erosion.is_some()),
-        births: [0; 4],
+        births: BirthPlace::default(),
     }
 }
 
@@ -494,6 +505,6 @@ pub fn place_member(w: &mut [u32; MEMBER_WORDS], scene: &SceneWords, place: Plac
     let [targets, shapes, released] = scene.tables.map(|t| place.words + t);
     w[20..24].copy_from_slice(&[place.words, targets, shapes, released]);
     w[24..28].copy_from_slice(&[place.slot, place.target, place.cell, place.counters]);
-    let [emitter, batches, swarm, newborns] = scene.births;
-    w[28..32].copy_from_slice(&[place.words + emitter, batches, swarm, newborns]);
+    let b = scene.births;
+    w[28..32].copy_from_slice(&[place.words + b.emitter, b.batches, b.swarm, b.newborns]);
 }

@@ -154,7 +154,7 @@ pub fn step_together(
 /// the other, a call at a time while `stop` is not set.
 fn step_on_cpu(sims: &mut [&mut Simulation], steps: u64, stop: &std::sync::atomic::AtomicBool) {
     for sim in sims.iter_mut() {
-        let goal = sim.steps_done().saturating_add(steps).min(sim.total_steps());
+        let goal = sim.steps_ahead(steps);
         while sim.steps_done() < goal && !stop.load(std::sync::atomic::Ordering::Relaxed) {
             // A call ends by itself at its epoch's (or its stage's) end.
             sim.advance_call(goal - sim.steps_done());

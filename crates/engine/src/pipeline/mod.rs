@@ -292,6 +292,12 @@ impl Simulation {
         self.plan.total_steps
     }
 
+    /// The step reached `steps` steps from now, or the run's end where that comes first: the
+    /// goal of a vectorised step.
+    pub fn steps_ahead(&self, steps: u64) -> u64 {
+        self.state.step.saturating_add(steps).min(self.plan.total_steps)
+    }
+
     /// True once the configured duration has been simulated.
     pub fn is_finished(&self) -> bool {
         self.state.step >= self.plan.total_steps
