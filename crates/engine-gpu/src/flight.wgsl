@@ -639,14 +639,12 @@ fn bare_normal(at: u32, q: vec3<f32>) -> vec3<f32> {
     return v3(at + 3u);
 }
 
-// The layer's thickness (m) in the cell under `q` on the target at `at`: a rectangle's point
-// taken to its grid's nearest cell, 0 past a shell's edges.
+// The layer's thickness (m) in the cell under `q` on the target at `at`, the point taken to its
+// grid's nearest cell: past a shell's edge or end, its edge cell's (a path that crosses the
+// layer within the shell and the bare surface past its edge in one step meets the layer).
 fn layer_under(at: u32, q: vec3<f32>) -> f32 {
     if (scene[at + 29u] == SHELL) {
         let l = shell_local(at, q);
-        if (l.w == 0.0) {
-            return 0.0;
-        }
         return thickness[first_cell(at) + cell_at(at, l.x, l.y)];
     }
     let uv = face_uv(at, q);

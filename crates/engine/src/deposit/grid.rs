@@ -579,3 +579,48 @@ mod full_turn {
         assert!(cut.edge_distance(seam) < 0.1);
     }
 }
+
+#[cfg(test)]
+mod lined_arch {
+    use super::*;
+    use crate::collision::CylinderShell;
+
+    /// A tunnel's arch seen from inside (1.5 m radius, 30° to 150°, 2 m long, axis along y
+    /// through (0, 0, 1)), 120 × 80 cells, lined `lining` m thick.
+    fn arch(lining: f64) -> CylinderSurface {
+        let shell =
+            CylinderShell::new(DVec3::Z, DVec3::Y, DVec3::X, 1.5, 2.0, [30f64, 150.0].map(f64::to_radians))
+                .expect("valid");
+        let mut s = CylinderSurface::new(ShellChart { shell, inside: true }, 120, 80, 0.0);
+        for cell in 0..s.thickness().len() as u32 {
+            s.add_thickness(cell, lining);
+        }
+        s
+    }
+
+    #[test]
+    fn a_step_through_a_curved_lining_and_the_surface_behind_it_meets_the_lining() {
+        let s = arch(0.05);
+        // From beside the axis to well behind the arch, in one step: along the chord the height
+        // above the surface is not linear (the chord lies nearer the axis than the straight line
+        // between its ends' heights says), so the lining lies past where that line meets the
+        // surface; and straight up, where it is linear.
+        for (p0, p1) in [
+            (DVec3::new(-0.06, -0.69, 0.89), DVec3::new(-1.77, -0.59, 2.67)),
+            (DVec3::new(0.4, 0.2, 0.7), DVec3::new(-1.0, 0.3, 3.0)),
+            (DVec3::new(0.0, 0.1, 1.2), DVec3::new(0.0, 0.1, 3.0)),
+            // Short steps through the lining alone, and into it from just above.
+            (DVec3::new(0.3, 0.0, 2.40), DVec3::new(0.3, 0.0, 2.52)),
+            (DVec3::new(0.0, 0.5, 2.44), DVec3::new(0.0, 0.5, 2.47)),
+        ] {
+            let c = s.layer_contact(p0, p1).unwrap_or_else(|| panic!("{p0} → {p1} meets the lining"));
+            let r = (c.point - DVec3::Z).reject_from(DVec3::Y).length();
+            assert!((r - 1.45).abs() < 1e-9, "{p0} → {p1}: met at {r} m from the axis");
+            let bare = s.intersect(p0, p1).map_or(f64::INFINITY, |h| h.t);
+            assert!(c.s < bare, "the lining before the bare surface");
+        }
+        // Started behind the surface, a step meets no lining; and a bare arch has none.
+        assert!(s.layer_contact(DVec3::new(0.0, 0.0, 2.8), DVec3::new(0.0, 0.0, 1.2)).is_none());
+        assert!(arch(0.0).layer_contact(DVec3::new(0.0, 0.1, 1.2), DVec3::new(0.0, 0.1, 3.0)).is_none());
+    }
+}

@@ -148,7 +148,11 @@ impl HeightField {
         // segment is searched then.
         let roof = top * (1.0 + 1e-9);
         let s_start = if h0 > roof && sag == 0.0 { (h0 - roof) / (h0 - h1) } else { 0.0 };
-        let s_end = if h1 < 0.0 && sag == 0.0 { h0 / (h0 - h1) } else { 1.0 };
+        // A chord inside a curved surface lies above the straight line between its ends' heights
+        // (its sag is zero), so it reaches the slab no sooner than that line does, but may reach
+        // the surface later: its search runs on to its end.
+        let curved = chart.uniform_normal().is_none();
+        let s_end = if h1 < 0.0 && !curved { h0 / (h0 - h1) } else { 1.0 };
         // The column over the point at fraction `s`, if it lies over the surface.
         let column = |s: f64| -> Option<(u32, f64)> {
             let (u, v, h) = chart.local(p0.lerp(p1, s));
@@ -158,9 +162,10 @@ impl HeightField {
         // on, and a point behind the surface is not in the layer.
         let inside = |s: f64| -> Option<u32> {
             let (cell, h) = column(s)?;
-            let behind = sag > 0.0 && h < 0.0;
+            let behind = curved && h < 0.0;
             (!behind && self.holds(cell, h)).then_some(cell)
         };
+        let behind = |s: f64| curved && chart.local(p0.lerp(p1, s)).2 < 0.0;
         // March at half a cell along the surface.
         let (dx, dy) = self.cell_size();
         let span = chart.along(p0, p1) * (s_end - s_start);
@@ -189,7 +194,17 @@ impl HeightField {
                 }
                 level -= 1;
             }
-            let now = inside(s).is_some();
+            let mut now = inside(s).is_some();
+            let mut s = s;
+            if !now && !was_inside && behind(s) {
+                // A curved surface's search passes behind it between two samples: a path steep
+                // to the surface may have crossed the layer there, between samples half a cell
+                // apart along it. The layer, if any, holds the last point in front.
+                let (front, _) = bisect(prev, s, behind);
+                if inside(front).is_some() {
+                    (s, now) = (front, true);
+                }
+            }
             if now && !was_inside {
                 let (a, b) = self.entry(chart, (p0, p1), (prev, s), |m| inside(m).is_some());
                 // `b` stays inside throughout the bisection.
