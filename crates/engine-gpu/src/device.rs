@@ -75,7 +75,8 @@ impl Gpu {
     }
 
     /// The most bytes one storage binding holds on this device, a multiple of 16 (the limit may
-    /// be 4 GiB − 1 bytes, and a binding's size is a multiple of 4).
+    /// be 2 GiB − 1 bytes, the most wgpu gives a binding on Vulkan, and a binding's size is a
+    /// multiple of 4).
     pub fn binding_bytes(&self) -> u64 {
         self.device.limits().max_storage_buffer_binding_size & !15
     }

@@ -105,7 +105,7 @@ pub(crate) struct Buffers {
     /// The kernels' timestamps, where the device writes them.
     stamps: Option<Stamps>,
     /// Cells listed that a dispatch reads back with the kernels' results (those past them take
-    /// a second copy): as many again as the last dispatch listed.
+    /// a second copy): twice what the last dispatch listed, at least [`LEAST_LISTED`].
     listed_guess: u32,
     /// Cells of all grids the layers' buffer is laid out for (each half: these and a spare).
     pub layer_cells: Option<u32>,
@@ -248,10 +248,14 @@ pub(crate) fn dispatch(
 }
 
 /// Cells a dispatch reads back with the kernels' results, after one that listed `count`: as
-/// many again, for a call that touches more than the last.
+/// many again, for a call that touches more than the last (and at least [`LEAST_LISTED`]).
 fn expected_listed(count: u32) -> u32 {
-    count.saturating_mul(2).max(256)
+    count.saturating_mul(2)
 }
+
+/// The fewest listed cells a dispatch reads back with the kernels' results (4 KB), so that a
+/// run's first call and one after a call that listed none seldom take a second copy.
+const LEAST_LISTED: u32 = 256;
 
 /// What a dispatch's submission read back in one copy: its particles, its counters, the
 /// kernels' timestamps, and the first of the cells it listed with their wear.
@@ -307,9 +311,19 @@ fn submit(
     let particle_bytes = BYTES_PER_SLOT as u64 * u64::from(laid.slots);
     let counted = particle_bytes + 4 * laid.counters.len() as u64;
     let stamp_bytes = stamps.as_ref().map_or(0, |s| s.bytes());
-    let listed_bytes = 16 * u64::from(b.listed_guess.min(cells + 1));
-    let wear_bytes = if erodes { listed_bytes } else { 0 };
     let at_listed = counted + stamp_bytes;
+    // The listed cells expected, within the largest buffer the device makes.
+    let most = gpu.device.limits().max_buffer_size;
+    if at_listed > most {
+        return Err(GpuError::TooLarge(format!(
+            "{at_listed} bytes to read back (a buffer holds at most {most})"
+        )));
+    }
+    let per_cell = if erodes { 32 } else { 16 };
+    let expected =
+        u64::from(b.listed_guess.max(LEAST_LISTED).min(cells + 1)).min((most - at_listed) / per_cell);
+    let listed_bytes = 16 * expected;
+    let wear_bytes = if erodes { listed_bytes } else { 0 };
     let total = at_listed + listed_bytes + wear_bytes;
     let readback = grow(gpu, &mut b.readback, total, READBACK);
     encoder.copy_buffer_to_buffer(some(&b.particles)?, 0, &readback, 0, particle_bytes);

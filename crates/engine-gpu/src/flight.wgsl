@@ -675,11 +675,20 @@ fn level_down(at: u32, p0: vec3<f32>, p1: vec3<f32>, h: vec2<f32>, level: f32) -
 fn layer_crossing(at: u32, p0: vec3<f32>, p1: vec3<f32>, h: vec2<f32>) -> vec2<f32> {
     let d = p1 - p0;
     var s = min(level_down(at, p0, p1, h, 0.0), 1.0);
+    let shell = scene[at + 29u] == SHELL;
+    // On a shell, the height at `s`: the bare surface's, or the segment's end's.
+    var hs = 0.0;
+    if (shell && s == 1.0) {
+        hs = shell_local(at, p1).z;
+    }
     var layer = -1.0;
     var side = false;
     for (var k = 0u; k < 3u; k++) {
         let next = layer_under(at, p0 + d * s);
-        if (h.x <= next) {
+        // Started no higher than the column, it meets its side; on a shell, where a chord's
+        // height is not linear, only if it is in the column there and did not rise above it
+        // and come down through its top.
+        if (h.x <= next && (!shell || (hs <= next && level_down(at, p0, p1, h, next) > 1.0))) {
             side = true;
             break;
         }
@@ -688,6 +697,7 @@ fn layer_crossing(at: u32, p0: vec3<f32>, p1: vec3<f32>, h: vec2<f32>) -> vec2<f
         }
         layer = next;
         s = level_down(at, p0, p1, h, layer);
+        hs = layer;
         if (s > 1.0) {
             break;
         }
@@ -852,9 +862,11 @@ fn shell_level(at: u32, p0: vec3<f32>, p1: vec3<f32>, level: f32, down: bool) ->
 // behind the surface meets no layer, as on the CPU); an opening lets a bare crossing pass.
 fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>, layered: bool) -> Hit {
     let top = band(t);
-    let h0 = shell_local(at, p0).z;
+    let l0 = shell_local(at, p0);
+    let h0 = l0.z;
+    // The layer under the start, where the shell lies under it (past its edge, none).
     var own = 0.0;
-    if (h0 <= top) {
+    if (h0 <= top && l0.w > 0.0) {
         own = layer_under(at, p0);
     }
     var s = NONE;

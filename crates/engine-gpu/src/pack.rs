@@ -414,13 +414,13 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
 }
 
 /// Each target's layer as spans to write over zero, m: per grid (meshes have none), the cells
-/// from its first to its last that is not zero, from the first cell of its grid at `first_cells`
-/// (over the member's grids); none for a bare layer. The GPU fills the rest of a rebuilt copy
-/// with zero, so a fresh run's bare layers cross no bus.
+/// from its first to its last that is not zero, from its first cell (`first_cells`, one per
+/// target, over the member's grids); none for a bare layer. The GPU fills the rest of a rebuilt
+/// copy with zero, so a fresh run's bare layers cross no bus.
 pub fn nonzero_spans(job: &FlightJob<'_>, first_cells: &[u32]) -> Vec<(u32, Vec<f32>)> {
-    let grids = job.targets.iter().filter(|t| !matches!(t.surface, Surface::Mesh(_)));
+    let grids = job.targets.iter().zip(first_cells).filter(|(t, _)| !matches!(t.surface, Surface::Mesh(_)));
     let mut out = Vec::new();
-    for (t, &first) in grids.zip(first_cells) {
+    for (t, &first) in grids {
         let layer = t.surface.thickness();
         // Bits, not values: a −0 is written as it stands, as a whole copy would.
         let (Some(lo), Some(hi)) =

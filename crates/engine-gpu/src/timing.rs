@@ -186,8 +186,8 @@ pub struct Profile {
     /// Reading back the cells listed past those read back with the kernels' results (as many
     /// as the last call listed, twice over): a second submission and wait.
     pub cells: f64,
-    /// Calls that took that second copy: the first of a run, and those that listed more than
-    /// twice as many cells as the call before.
+    /// Calls that took that second copy: those that listed more than twice as many cells as the
+    /// call before, or 256 (a run's first, more than 256).
     pub second_copies: u64,
     /// Turning what was read back into the engine's reports.
     pub report: f64,

@@ -271,11 +271,11 @@ fn the_gpu_copy_of_the_layers_follows_them_cell_for_cell() {
         "{checked} epochs, {} failures",
         sim.failures().len()
     );
-    // The split calls list few cells and the rest many, so that some calls read back their
-    // listed cells with the kernels' results and others (the first, and those that listed more
-    // than twice as many as the call before) take a second copy for the rest.
+    // The split calls list few cells and the rest many, so that some calls read back all their
+    // listed cells with the kernels' results and others (those that listed more than twice as
+    // many as the call before, or 256) the first of them, and the rest in a second copy.
     let p = gpu.take_profile();
-    assert!(p.second_copies > 1 && p.second_copies < p.calls, "{} of {} calls", p.second_copies, p.calls);
+    assert!(p.second_copies > 0 && p.second_copies < p.calls, "{} of {} calls", p.second_copies, p.calls);
     // The same run handed an epoch a call gives the same bits: the second part of a split
     // epoch reads the layers as the epoch found them, not with the first part's deposits.
     let mut whole = sc.build().expect("builds");

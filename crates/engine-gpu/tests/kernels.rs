@@ -835,10 +835,10 @@ fn euler_layered_hit(
     })
 }
 
-/// Whether forward Euler from `p`, up to the step of its first contact with `surface` (charted as
-/// `chart`, lined `lining` m thick), passes within a cell of the chart's edges or ends at a
-/// height within the lining (or a millimetre of it): sampled every 2 mm of its steps of
-/// `dt` (s) under `g`.
+/// Whether forward Euler from `p`, up to its first contact with `surface` (charted as `chart`,
+/// lined `lining` m thick), passes within a cell of the chart's edges or ends at a height within
+/// the lining (or a millimetre of it), where the lining's corner may be met or not: sampled
+/// every 2 mm of its steps of `dt` (s) under `g`.
 fn clips_edge(
     chart: &ShellChart,
     surface: &Surface,
@@ -853,9 +853,12 @@ fn clips_edge(
     let (mut x, mut v) = (p.anchor, p.anchor_velocity());
     for _ in 0..400 {
         let x1 = x + v * dt;
-        let n = ((x1 - x).length() / 2e-3).ceil() as usize;
+        // The step's first contact, as a fraction of it: the path is looked at up to there.
+        let contact = [surface.intersect(x, x1).map(|h| h.t), surface.layer_contact(x, x1).map(|l| l.s)];
+        let end = contact.iter().flatten().fold(1.0_f64, |a, &b| a.min(b));
+        let n = ((x1 - x).length() * end / 2e-3).ceil().max(1.0) as usize;
         for k in 0..=n {
-            let (u, along, height) = chart.local(x.lerp(x1, k as f64 / n as f64));
+            let (u, along, height) = chart.local(x.lerp(x1, end * k as f64 / n as f64));
             let in_band = (-1e-3..=lining + 1e-3).contains(&height);
             let by_side = near(u, 0.5 * w, cw) && along.abs() < 0.5 * h + ch;
             let by_end = near(along, 0.5 * h, ch) && u.abs() < 0.5 * w + cw;
@@ -863,7 +866,7 @@ fn clips_edge(
                 return true;
             }
         }
-        if surface.intersect(x, x1).is_some() || surface.layer_contact(x, x1).is_some() || x1.length() > 8.0 {
+        if end < 1.0 || x1.length() > 8.0 {
             return false;
         }
         x = x1;
@@ -896,27 +899,45 @@ fn lined(chart: ShellChart, lining: f64) -> Surface {
     s
 }
 
-/// `n` particles at 8 to 16 m/s: three in four from behind the lined arch (2 to 2.5 m from its
-/// axis, all round but for its invert) towards its middle, the others from near its axis
-/// outwards.
+/// `n` particles at 8 to 16 m/s: half from behind the lined arch (2 to 2.5 m from its axis, all
+/// round but for its invert) towards its middle, a quarter from near its axis outwards, and a
+/// quarter from within the lining's height past its springlines (5° to 50° past them) across
+/// the tunnel.
 fn lined_arch_paths(n: u32) -> Vec<Particle> {
     let mut draws = Draws(0x9b05_688c_2b3e_6c1f);
+    let middle =
+        |d: &mut Draws| DVec3::new(0.8 * d.next() - 0.4, 1.6 * d.next() - 0.8, 1.0 + 0.8 * d.next() - 0.4);
     (0..n)
         .map(|id| {
-            let behind = id % 4 != 0;
-            let start = if behind {
-                let around = std::f64::consts::PI * (0.1 + 1.8 * draws.next());
-                let r = 2.0 + 0.5 * draws.next();
-                DVec3::new(r * around.cos(), 1.6 * draws.next() - 0.8, 1.0 + r * around.sin())
-            } else {
-                DVec3::new(0.6 * draws.next() - 0.3, 1.6 * draws.next() - 0.8, 1.0 + 0.6 * draws.next() - 0.3)
+            let (start, aim) = match id % 4 {
+                0 => {
+                    let start = DVec3::new(
+                        0.6 * draws.next() - 0.3,
+                        1.6 * draws.next() - 0.8,
+                        1.0 + 0.6 * draws.next() - 0.3,
+                    );
+                    (start, start + (middle(&mut draws) - DVec3::new(0.0, 0.0, 1.0)) * 4.0)
+                }
+                1 => {
+                    let past = (5.0 + 45.0 * draws.next()).to_radians();
+                    let around = if draws.next() < 0.5 {
+                        30f64.to_radians() - past
+                    } else {
+                        150f64.to_radians() + past
+                    };
+                    let r = 1.5 - 0.05 * draws.next();
+                    let start =
+                        DVec3::new(r * around.cos(), 1.6 * draws.next() - 0.8, 1.0 + r * around.sin());
+                    (start, middle(&mut draws) + DVec3::new(0.0, 0.0, 1.0))
+                }
+                _ => {
+                    let around = std::f64::consts::PI * (0.1 + 1.8 * draws.next());
+                    let r = 2.0 + 0.5 * draws.next();
+                    let start =
+                        DVec3::new(r * around.cos(), 1.6 * draws.next() - 0.8, 1.0 + r * around.sin());
+                    (start, middle(&mut draws))
+                }
             };
-            let aim = DVec3::new(
-                0.8 * draws.next() - 0.4,
-                1.6 * draws.next() - 0.8,
-                1.0 + 0.8 * draws.next() - 0.4,
-            );
-            let aim = if behind { aim } else { start + (aim - DVec3::new(0.0, 0.0, 1.0)) * 4.0 };
             Particle::new(start, (aim - start).normalize() * (8.0 + 8.0 * draws.next()), 0, id, flags::ALIVE)
         })
         .collect()
@@ -926,10 +947,12 @@ fn lined_arch_paths(n: u32) -> Vec<Particle> {
 fn a_step_from_behind_a_lined_arch_past_its_edge_meets_only_its_bare_surface() {
     let Some(gpu) = common::gpu() else { return };
     // A tunnel's arch (1.5 m, 30° to 150°, sprayed from inside) lined 5 cm thick, flown at
-    // from behind (the rock's side) in steps of 2 to 4 m: onto its back, or past its springlines
-    // and into the arch, which a step that started behind meets on its bare surface, as the
-    // engine does (the lining is struck from the next step on); and from inside, onto the
-    // lining.
+    // in steps of 2 to 4 m: from behind (the rock's side) onto its back, or past its
+    // springlines and into the arch, which a step that started behind meets on its bare
+    // surface, as the engine does (the lining is struck from the next step on); from inside,
+    // onto the lining, also where the step leaves the shell past its end; and from within the
+    // lining's height past the springlines, up across the tunnel and down onto the lining's
+    // top (not its side).
     let (lining, dt) = (0.05, 0.25);
     let [arch, outer, inner] = [0.0, F32_REACH, -F32_REACH].map(lined_arch);
     let surfaces = [arch, outer, inner].map(|c| lined(c, lining));
@@ -944,7 +967,7 @@ fn a_step_from_behind_a_lined_arch_past_its_edge_meets_only_its_bare_surface() {
         let c = [arch, outer, inner][k];
         euler_layered_hit((&surfaces[k], &c), p.anchor, p.anchor_velocity(), dt, g)
     };
-    let particles: Vec<Particle> = lined_arch_paths(6000)
+    let particles: Vec<Particle> = lined_arch_paths(8000)
         .into_iter()
         // Those whose outcome f32 could change: another side or kind on a shell grown or shrunk
         // by F32_REACH.

@@ -158,14 +158,15 @@ impl HeightField {
             let (u, v, h) = chart.local(p0.lerp(p1, s));
             chart.covers(u, v).then(|| (self.cell_at(u, v), h))
         };
-        // On a flat surface the slab already ends at the surface; a curved one's search runs
-        // on, and a point behind the surface is not in the layer.
-        let inside = |s: f64| -> Option<u32> {
-            let (cell, h) = column(s)?;
-            let behind = curved && h < 0.0;
-            (!behind && self.holds(cell, h)).then_some(cell)
+        // The cell whose layer holds the point at fraction `s`, if any, and the point's height
+        // above the surface. On a flat surface the slab already ends at the surface; a curved
+        // one's search runs on, and a point behind the surface is not in the layer.
+        let probe = |s: f64| -> (Option<u32>, f64) {
+            let (u, v, h) = chart.local(p0.lerp(p1, s));
+            let held = chart.covers(u, v).then(|| self.cell_at(u, v));
+            (held.filter(|&cell| !(curved && h < 0.0) && self.holds(cell, h)), h)
         };
-        let behind = |s: f64| curved && chart.local(p0.lerp(p1, s)).2 < 0.0;
+        let inside = |s: f64| probe(s).0;
         // March at half a cell along the surface.
         let (dx, dy) = self.cell_size();
         let span = chart.along(p0, p1) * (s_end - s_start);
@@ -174,7 +175,10 @@ impl HeightField {
         let fine = span <= n as f64 * 0.5 * dx.min(dy) && sag == 0.0;
         let sample = |k: usize| s_start + (s_end - s_start) * k as f64 / n as f64;
         let height = |s: f64| chart.local(p0.lerp(p1, s)).2;
-        let mut was_inside = inside(s_start).is_some();
+        let (held, h) = probe(s_start);
+        let mut was_inside = held.is_some();
+        // Whether the last sample lay in front of the surface (on a flat one, every sample).
+        let mut was_in_front = !(curved && h < 0.0);
         let mut prev = s_start;
         let mut k = 1;
         let mut level = SKIP_LEVEL.min(self.bounds.height());
@@ -188,19 +192,22 @@ impl HeightField {
                 let bound = self.max_around(chart, p0.lerp(p1, s), level) + SKIP_MARGIN;
                 if height(s) > bound && height(sample(k + run)) > bound {
                     prev = sample(k + run);
+                    was_in_front = true;
                     k += run + 1;
                     level = (level + 1).min(self.bounds.height());
                     continue;
                 }
                 level -= 1;
             }
-            let mut now = inside(s).is_some();
+            let (held, h) = probe(s);
+            let mut now = held.is_some();
             let mut s = s;
-            if !now && !was_inside && behind(s) {
+            let in_front = !(curved && h < 0.0);
+            if !now && !was_inside && was_in_front && !in_front {
                 // A curved surface's search passes behind it between two samples: a path steep
                 // to the surface may have crossed the layer there, between samples half a cell
                 // apart along it. The layer, if any, holds the last point in front.
-                let (front, _) = bisect(prev, s, behind);
+                let (front, _) = bisect(prev, s, |m| height(m) < 0.0);
                 if inside(front).is_some() {
                     (s, now) = (front, true);
                 }
@@ -217,6 +224,7 @@ impl HeightField {
                 return Some(self.contact(chart, p0.lerp(p1, b), b, entered, cell));
             }
             was_inside = now;
+            was_in_front = in_front;
             prev = s;
             k += 1;
         }
