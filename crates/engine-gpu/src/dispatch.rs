@@ -6,89 +6,14 @@
 
 use crate::GpuError;
 use crate::device::Gpu;
+use crate::kernels::{Groups, Kernels, PARAMS_BYTES, params_stride, record};
 use crate::pack::{
     self, BYTES_PER_SLOT, GLOBAL_COUNTER_WORDS, GpuParticle, MEMBER_WORDS, OBSTACLE_COUNTER_WORDS, Place,
-    ROW_GROUPS, TABLE_WORDS, TALLY_WORDS, TARGET_COUNTER_WORDS, WORKGROUP,
+    TABLE_WORDS, TALLY_WORDS, TARGET_COUNTER_WORDS, WORKGROUP,
 };
-use crate::timing::{Kernel, KernelTimes, Stamps, Timing};
+use crate::timing::{KernelTimes, Stamps, Timing};
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
-
-/// The kernels' source: the flight, then the births, which use its bindings and helpers.
-const SOURCE: &str = concat!(include_str!("flight.wgsl"), include_str!("births.wgsl"));
-
-/// The kernels, built once per device.
-#[derive(Debug)]
-pub(crate) struct Kernels {
-    layout: wgpu::BindGroupLayout,
-    fly: wgpu::ComputePipeline,
-    born: wgpu::ComputePipeline,
-    restore: wgpu::ComputePipeline,
-    settle: wgpu::ComputePipeline,
-    census: wgpu::ComputePipeline,
-    gather: wgpu::ComputePipeline,
-}
-
-impl Kernels {
-    /// Builds the kernels on `gpu`; a kernel the driver cannot build is an error.
-    pub fn build(gpu: &Gpu) -> Result<Kernels, GpuError> {
-        let device = &gpu.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("flight"),
-            source: wgpu::ShaderSource::Wgsl(SOURCE.into()),
-        });
-        let entry = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let params = wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                // Each epoch's parameters at their own offset.
-                has_dynamic_offset: true,
-                min_binding_size: Some(PARAMS_BYTES),
-            },
-            count: None,
-        };
-        let mut entries = vec![params];
-        // Particles, scene (read only), layers, counters, cells, listed, plan, wear.
-        entries.extend((1..=8).map(|b| entry(b, b == 2)));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("flight"),
-            entries: &entries,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("flight"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                cache: None,
-            })
-        };
-        let (fly, restore, settle) = (pipeline("fly"), pipeline("restore"), pipeline("settle"));
-        let (census, gather, born) = (pipeline("census"), pipeline("gather"), pipeline("born"));
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Device(format!("the flight kernels do not build: {e}")));
-        }
-        Ok(Kernels { layout, fly, born, restore, settle, census, gather })
-    }
-}
 
 /// Storage that grows as dispatches need, and the layers it holds.
 #[derive(Debug, Default)]
@@ -104,6 +29,8 @@ pub(crate) struct Buffers {
     readback: Option<wgpu::Buffer>,
     /// The kernels' timestamps, where the device writes them.
     stamps: Option<Stamps>,
+    /// The size of the dispatches over the listed cells (see `Kernels::census_layout`).
+    listed_groups: Option<wgpu::Buffer>,
     /// Cells listed that a dispatch reads back with the kernels' results (those past them take
     /// a second copy): twice what the last dispatch listed, at least [`LEAST_LISTED`].
     listed_guess: u32,
@@ -291,19 +218,21 @@ fn submit(
     gpu: &Gpu,
     kernels: &Kernels,
     b: &mut Buffers,
-    bind: &wgpu::BindGroup,
+    bind: &Groups,
     (laid, epochs): (&LaidOut, usize),
     (cells, erodes): (u32, bool),
 ) -> Result<ReadBack, GpuError> {
     if b.stamps.is_none() {
         b.stamps = Stamps::new(&gpu.device);
     }
+    let listed = some(&b.listed_groups)?.clone();
     let mut stamps = b.stamps.as_mut().filter(|_| Stamps::fit(epochs));
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    let groups = (bind, &listed);
     record(
         &mut encoder,
         kernels,
-        bind,
+        groups,
         (params_stride(gpu), epochs),
         (laid.slots, cells),
         stamps.as_deref_mut(),
@@ -363,7 +292,7 @@ fn upload(
     (laid, members): (&LaidOut, &[MemberCall]),
     (cells, erodes): (u32, bool),
     epochs: &[(u64, u64)],
-) -> Result<wgpu::BindGroup, GpuError> {
+) -> Result<Groups, GpuError> {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
     // Each member's swarm; `born` fills the slots after it.
@@ -404,6 +333,8 @@ fn upload(
     grow(gpu, &mut b.listed, 16 * half, storage);
     // Where a target erodes: the cells' wear counters, then the listed cells' copies.
     grow(gpu, &mut b.wear, if erodes { 32 * half } else { 16 }, storage);
+    let indirect = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT;
+    grow(gpu, &mut b.listed_groups, 16, indirect);
     let sizes = [members.len() as u32, laid.targets, cells, u32::from(erodes)];
     let stride = params_stride(gpu) as usize;
     let mut bytes = vec![0u8; stride * epochs.len()];
@@ -419,50 +350,23 @@ fn upload(
     bind_group(gpu, kernels, b, &params)
 }
 
-/// Records the kernels of a dispatch of `epochs` epochs (their parameters `stride` bytes
-/// apart) over `slots` particle slots and `cells` cells, with a timestamp after each where
-/// `stamps` is given.
-fn record(
-    encoder: &mut wgpu::CommandEncoder,
-    kernels: &Kernels,
-    bind: &wgpu::BindGroup,
-    (stride, epochs): (u64, usize),
-    (slots, cells): (u32, u32),
-    mut stamps: Option<&mut Stamps>,
-) {
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-    if let Some(s) = stamps.as_deref_mut() {
-        s.start(&mut pass);
-    }
-    let mut run = |pass: &mut wgpu::ComputePass<'_>, kernel: Kernel, (x, y): (u32, u32)| {
-        pass.set_pipeline(match kernel {
-            Kernel::Restore => &kernels.restore,
-            Kernel::Born => &kernels.born,
-            Kernel::Fly => &kernels.fly,
-            Kernel::Census => &kernels.census,
-            Kernel::Settle => &kernels.settle,
-            Kernel::Gather => &kernels.gather,
-        });
-        pass.dispatch_workgroups(x, y, 1);
-        if let Some(s) = stamps.as_deref_mut() {
-            s.after(pass, kernel);
-        }
-    };
-    let grid = groups(cells + 1);
-    let particles = groups(slots);
-    pass.set_bind_group(0, bind, &[0]);
-    run(&mut pass, Kernel::Restore, grid);
-    run(&mut pass, Kernel::Born, particles);
-    for e in 0..epochs {
-        pass.set_bind_group(0, bind, &[(e as u64 * stride) as u32]);
-        run(&mut pass, Kernel::Fly, particles);
-        run(&mut pass, Kernel::Census, (1, 1));
-        // After every epoch: between two, for the next one; after the last, for
-        // `read_settled_layers` (the next call starts from the layers it is handed).
-        run(&mut pass, Kernel::Settle, grid);
-        run(&mut pass, Kernel::Census, (1, 1));
-    }
-    run(&mut pass, Kernel::Gather, grid);
+/// The groups of a dispatch's storage, as `upload` left it, with the parameters `params`.
+fn bind_group(gpu: &Gpu, kernels: &Kernels, b: &Buffers, params: &wgpu::Buffer) -> Result<Groups, GpuError> {
+    Ok(kernels.groups(
+        gpu,
+        [
+            params,
+            some(&b.particles)?,
+            some(&b.scene)?,
+            some(&b.thickness)?,
+            some(&b.counters)?,
+            some(&b.cells)?,
+            some(&b.listed)?,
+            some(&b.plan)?,
+            some(&b.wear)?,
+            some(&b.listed_groups)?,
+        ],
+    ))
 }
 
 /// Each member's part of what a dispatch read back: its particles (of `flown`), its counter block
@@ -550,53 +454,6 @@ fn lay_out(members: &[MemberCall], cells: u32) -> LaidOut {
     LaidOut { words, slots, counters, plan, places, targets: targets as u32 }
 }
 
-fn bind_group(
-    gpu: &Gpu,
-    kernels: &Kernels,
-    b: &Buffers,
-    params: &wgpu::Buffer,
-) -> Result<wgpu::BindGroup, GpuError> {
-    let buffers = [
-        params,
-        some(&b.particles)?,
-        some(&b.scene)?,
-        some(&b.thickness)?,
-        some(&b.counters)?,
-        some(&b.cells)?,
-        some(&b.listed)?,
-        some(&b.plan)?,
-        some(&b.wear)?,
-    ];
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-        .iter()
-        .enumerate()
-        .map(|(k, buffer)| wgpu::BindGroupEntry {
-            binding: k as u32,
-            // The parameters: one epoch's, at the offset each dispatch gives.
-            resource: if k == 0 {
-                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer,
-                    offset: 0,
-                    size: Some(PARAMS_BYTES),
-                })
-            } else {
-                buffer.as_entire_binding()
-            },
-        })
-        .collect();
-    Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &kernels.layout,
-        entries: &entries,
-    }))
-}
-
-/// Bytes between two epochs' parameters: the adapter's alignment of uniform offsets.
-fn params_stride(gpu: &Gpu) -> u64 {
-    let align = u64::from(gpu.device.limits().min_uniform_buffer_offset_alignment);
-    PARAMS_BYTES.get().next_multiple_of(align.max(1))
-}
-
 /// The wear of the cells listed `from` up to `to` (their copies lie after the `cells` cells'
 /// counters), each as coating (low, high) and substrate (low, high), WEAR_QUANTUMs; the copies
 /// are cleared once read, so that a later call's counters, which may lie there, start at zero.
@@ -661,13 +518,6 @@ fn read(gpu: &Gpu, readback: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuEr
     Ok(out)
 }
 
-/// Bytes of one epoch's parameters.
-pub(crate) const PARAMS_BYTES: wgpu::BufferSize =
-    match wgpu::BufferSize::new(std::mem::size_of::<pack::Params>() as u64) {
-        Some(n) => n,
-        None => panic!("the parameters take bytes"),
-    };
-
 /// Usage of the readback buffer.
 const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
 
@@ -696,10 +546,4 @@ fn grow(gpu: &Gpu, slot: &mut Option<wgpu::Buffer>, bytes: u64, usage: wgpu::Buf
 
 fn some(b: &Option<wgpu::Buffer>) -> Result<&wgpu::Buffer, GpuError> {
     b.as_ref().ok_or_else(|| GpuError::Device("a buffer was not allocated".into()))
-}
-
-/// Workgroups (across, rows) covering `n` invocations.
-fn groups(n: u32) -> (u32, u32) {
-    let g = n.div_ceil(WORKGROUP).max(1);
-    (g.min(ROW_GROUPS), g.div_ceil(ROW_GROUPS))
 }

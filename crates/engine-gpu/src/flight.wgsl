@@ -61,6 +61,10 @@ struct Particle {
 // WEAR_QUANTUMs (2⁻⁹⁰ m³), each as (low, high); from word 4 × (cells + 1), after `gather`, the
 // same for each listed cell. A spare word where nothing erodes.
 @group(0) @binding(8) var<storage, read_write> wear: array<atomic<u32>>;
+// The size of the dispatches over the listed cells (`settle`, `gather`), as the last `census`
+// counted them: workgroups across, rows, 1. Bound for `census` alone (in a group of its own,
+// with the bindings it reads), which writes it; the others' dispatches read it as their size.
+@group(0) @binding(9) var<storage, read_write> listed_groups: array<u32>;
 
 // The member the invocation flies a particle of.
 var<private> M: Member;
@@ -1437,11 +1441,18 @@ fn restore(@builtin(global_invocation_id) gid: vec3<u32>) {
     thickness[c] = thickness[params.sizes.z + 1u + c];
 }
 
-// One workgroup: the cells listed and each target's band, copied into `plan`.
+// One workgroup: the cells listed and each target's band, copied into `plan`, and the size of
+// the dispatches over the listed cells into `listed_groups`.
 @compute @workgroup_size(64)
 fn census(@builtin(local_invocation_index) lid: u32) {
     if (lid == 0u) {
-        plan[0] = atomicLoad(&counters[C_LISTED]);
+        let count = atomicLoad(&counters[C_LISTED]);
+        plan[0] = count;
+        let groups = (count + 63u) / 64u;
+        let row = params.steps.w / 64u;
+        listed_groups[0] = min(groups, row);
+        listed_groups[1] = (groups + row - 1u) / row;
+        listed_groups[2] = 1u;
     }
     let table = MEMBER_WORDS * params.sizes.x;
     for (var t = lid; t < params.sizes.y; t += 64u) {

@@ -55,6 +55,7 @@ mod births;
 mod device;
 mod dispatch;
 mod flight;
+mod kernels;
 mod pack;
 mod report;
 mod scope;
