@@ -7,7 +7,9 @@
 // the parameters at the epoch's dynamic offset), `census`, `settle` (the layers brought up to
 // date with what the call has deposited so far) and `census` again, and `gather` to end. `census`
 // copies the few counters that many invocations read into plain words (`plan`): an atomic load
-// of one word by every invocation is serialised, and would cost more than the flight.
+// of one word by every invocation is serialised, and would cost more than the flight. It also
+// writes the size of `settle`'s and `gather`'s dispatches (`listed_groups`), which cover only
+// the cells listed.
 //
 // Layouts (word offsets, all u32; f32 through bitcast) are written by `pack.rs`, whose
 // constants these mirror. What a particle leaves behind is booked in integer atomics, whose
