@@ -635,6 +635,19 @@ fn euler_first<T>(
     None
 }
 
+/// Asserts that the GPU's flight `q` of `p` ended, struck (`what`) where the engine's did, at
+/// `point`, to half of `F32_REACH`.
+fn retired_at(p: &Particle, q: &Particle, point: DVec3, what: &str) {
+    assert!(!q.is_alive(), "particle {} should have struck ({what}) at {point}", p.id);
+    let err = (q.anchor - point).length();
+    assert!(
+        err < 0.5 * F32_REACH,
+        "particle {} ({what}): at {} against the engine's {point}",
+        p.id,
+        q.anchor
+    );
+}
+
 /// Whether a hit at `point` on `chart`'s shell, its normal facing the particle, strikes the side
 /// the chart receives spray on (its front).
 fn on_front(chart: &ShellChart, point: DVec3, normal: DVec3) -> bool {
@@ -713,14 +726,7 @@ fn shell_flights(
     for (p, q) in particles.iter().zip(&report.particles) {
         match euler_shell_hit(&chart, p.anchor, p.anchor_velocity(), dt, g) {
             Some((point, side)) => {
-                assert!(!q.is_alive(), "particle {} should have struck the shell at {point}", p.id);
-                let err = (q.anchor - point).length();
-                assert!(
-                    err < 0.5 * F32_REACH,
-                    "particle {}: struck {} from the engine's {point}",
-                    p.id,
-                    q.anchor
-                );
+                retired_at(p, q, point, if side { "front" } else { "back" });
                 if side {
                     front += 1;
                     hits[grid.cell_at(0, point) as usize] += 1;
@@ -987,14 +993,7 @@ fn a_step_from_behind_a_lined_arch_past_its_edge_meets_only_its_bare_surface() {
             counts[3] += 1;
             continue;
         };
-        assert!(!q.is_alive(), "particle {} should have met the arch ({kind:?}) at {point}", p.id);
-        let err = (q.anchor - point).length();
-        assert!(
-            err < 0.5 * F32_REACH,
-            "particle {} ({kind:?}): at {} against the engine's {point}",
-            p.id,
-            q.anchor
-        );
+        retired_at(p, q, point, &format!("{kind:?}"));
         counts[kind as usize] += 1;
     }
     let tally = &report.targets[0];
