@@ -159,14 +159,7 @@ fn euler_flights_strike_the_wall_where_the_closed_form_says_and_miss_past_its_ed
         judged += 1;
         if margin > 0.0 {
             hits += 1;
-            assert!(!q.is_alive(), "particle {} should have struck the wall at {point}", p.id);
-            let err = (q.anchor - point).length();
-            assert!(
-                err < 0.5 * F32_REACH,
-                "particle {}: struck {} from the closed form's {point}",
-                p.id,
-                err
-            );
+            retired_at(p, q, point, "the wall");
         } else {
             assert_eq!(q.impacts(), 0, "particle {} passes {:.2e} m outside the edge", p.id, -margin);
         }
@@ -255,9 +248,7 @@ fn euler_flights_strike_a_turned_box_where_the_engine_does() {
         let (point, _) = euler_hit(&shape, x, v, dt, g, 400).expect("within the grown box, so in the box");
         judged += 1;
         hits += 1;
-        assert!(!q.is_alive(), "particle {} should have struck the box at {point}", p.id);
-        let err = (q.anchor - point).length();
-        assert!(err < 0.5 * F32_REACH, "particle {}: struck {} from the engine's {point}", p.id, q.anchor);
+        retired_at(p, q, point, "the box");
     }
     assert!(judged > 3800 && hits > 1000 && hits < judged - 1000, "{judged} judged, {hits} hits");
     let (boxed, wall) = (&report.obstacles[0], &report.targets[0]);
@@ -635,14 +626,14 @@ fn euler_first<T>(
     None
 }
 
-/// Asserts that the GPU's flight `q` of `p` ended, struck (`what`) where the engine's did, at
-/// `point`, to half of `F32_REACH`.
+/// Asserts that the GPU's flight `q` of `p` ended struck (on `what`) where the reference (a
+/// closed form, or the engine on each step's chord) says, at `point`, to half of `F32_REACH`.
 fn retired_at(p: &Particle, q: &Particle, point: DVec3, what: &str) {
     assert!(!q.is_alive(), "particle {} should have struck ({what}) at {point}", p.id);
     let err = (q.anchor - point).length();
     assert!(
         err < 0.5 * F32_REACH,
-        "particle {} ({what}): at {} against the engine's {point}",
+        "particle {} ({what}): at {} against the reference's {point}",
         p.id,
         q.anchor
     );
