@@ -650,11 +650,16 @@ fn bare_normal(at: u32, q: vec3<f32>) -> vec3<f32> {
 // layer within the shell and the bare surface past its edge in one step meets the layer).
 fn layer_under(at: u32, q: vec3<f32>) -> f32 {
     if (scene[at + 29u] == SHELL) {
-        let l = shell_local(at, q);
-        return thickness[first_cell(at) + cell_at(at, l.x, l.y)];
+        return shell_layer(at, shell_local(at, q));
     }
     let uv = face_uv(at, q);
     return thickness[first_cell(at) + cell_at(at, uv.x, uv.y)];
+}
+
+// The layer's thickness (m) in the cell of the shell at `at` under the point whose local
+// coordinates (`shell_local`) are `l`, its edge cell's past the shell's edges.
+fn shell_layer(at: u32, l: vec4<f32>) -> f32 {
+    return thickness[first_cell(at) + cell_at(at, l.x, l.y)];
 }
 
 // The first fraction of the segment at which it comes down through `level` m above the surface
@@ -873,7 +878,7 @@ fn shell_front(t: u32, at: u32, p0: vec3<f32>, p1: vec3<f32>, layered: bool) -> 
     // The layer under the start, where the shell lies under it (past its edge, none).
     var own = 0.0;
     if (h0 <= top && l0.w > 0.0) {
-        own = layer_under(at, p0);
+        own = shell_layer(at, l0);
     }
     var s = NONE;
     var bare = true;

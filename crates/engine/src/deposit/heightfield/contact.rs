@@ -158,13 +158,15 @@ impl HeightField {
             let (u, v, h) = chart.local(p0.lerp(p1, s));
             chart.covers(u, v).then(|| (self.cell_at(u, v), h))
         };
-        // The cell whose layer holds the point at fraction `s`, if any, and the point's height
-        // above the surface. On a flat surface the slab already ends at the surface; a curved
-        // one's search runs on, and a point behind the surface is not in the layer.
-        let probe = |s: f64| -> (Option<u32>, f64) {
+        // The cell whose layer holds the point at fraction `s`, if any, and whether the point
+        // lies in front of the surface. On a flat surface every point does (the slab already ends
+        // at the surface); a curved one's search runs on, and a point behind it is not in the
+        // layer.
+        let probe = |s: f64| -> (Option<u32>, bool) {
             let (u, v, h) = chart.local(p0.lerp(p1, s));
+            let in_front = !(curved && h < 0.0);
             let held = chart.covers(u, v).then(|| self.cell_at(u, v));
-            (held.filter(|&cell| !(curved && h < 0.0) && self.holds(cell, h)), h)
+            (held.filter(|&cell| in_front && self.holds(cell, h)), in_front)
         };
         let inside = |s: f64| probe(s).0;
         // March at half a cell along the surface.
@@ -175,10 +177,8 @@ impl HeightField {
         let fine = span <= n as f64 * 0.5 * dx.min(dy) && sag == 0.0;
         let sample = |k: usize| s_start + (s_end - s_start) * k as f64 / n as f64;
         let height = |s: f64| chart.local(p0.lerp(p1, s)).2;
-        let (held, h) = probe(s_start);
+        let (held, mut was_in_front) = probe(s_start);
         let mut was_inside = held.is_some();
-        // Whether the last sample lay in front of the surface (on a flat one, every sample).
-        let mut was_in_front = !(curved && h < 0.0);
         let mut prev = s_start;
         let mut k = 1;
         let mut level = SKIP_LEVEL.min(self.bounds.height());
@@ -199,10 +199,9 @@ impl HeightField {
                 }
                 level -= 1;
             }
-            let (held, h) = probe(s);
+            let (held, in_front) = probe(s);
             let mut now = held.is_some();
             let mut s = s;
-            let in_front = !(curved && h < 0.0);
             if !now && !was_inside && was_in_front && !in_front {
                 // A curved surface's search passes behind it between two samples: a path steep
                 // to the surface may have crossed the layer there, between samples half a cell
