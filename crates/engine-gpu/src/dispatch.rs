@@ -12,6 +12,7 @@ use crate::pack::{
     TABLE_WORDS, TALLY_WORDS, TARGET_COUNTER_WORDS, WORKGROUP,
 };
 use crate::timing::{KernelTimes, Stamps, Timing};
+use rayon::prelude::*;
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
@@ -143,11 +144,16 @@ pub(crate) fn dispatch(
     let erodes = members.iter().any(|m| m.scene.erodes);
     let bind = upload(gpu, kernels, b, (&laid, members), (cells, erodes), &epochs)?;
     let uploaded = Instant::now();
-    let read = submit(gpu, kernels, b, &bind, (&laid, epochs.len()), (cells, erodes))?;
+    // Each member's slots (its swarm's and its newborns'), copied out of the read-back apart.
+    let member_slots: Vec<_> = members
+        .iter()
+        .zip(&laid.places)
+        .map(|(m, p)| p.slot as usize..p.slot as usize + m.particles())
+        .collect();
+    let read = submit(gpu, kernels, b, &bind, (&laid, epochs.len(), &member_slots), (cells, erodes))?;
     let flew = Instant::now();
-    let (flown, words) = read.flown();
+    let ReadBack { slots, counters: words, mut listed, mut wear, gpu: gpu_times } = read;
     // The cells listed past those read back with the kernels' results: a second copy.
-    let (mut listed, mut wear) = read.listed();
     let count = words[0];
     let second_copy = count as usize > listed.len();
     if second_copy {
@@ -162,14 +168,14 @@ pub(crate) fn dispatch(
     listed.truncate(count as usize);
     wear.truncate(count as usize);
     b.listed_guess = expected_listed(count);
-    let raw = split(members, &laid.places, (flown, words), (&listed, &wear));
+    let raw = split(members, &laid.places, (slots, &words), (&listed, &wear));
     let timing = Timing {
         upload: (uploaded - start).as_secs_f64(),
         kernels: (flew - uploaded).as_secs_f64(),
         cells: flew.elapsed().as_secs_f64(),
         second_copy,
         members: (members.len() as u64, whole_members),
-        gpu: read.gpu,
+        gpu: gpu_times,
     };
     Ok((raw, timing))
 }
@@ -184,33 +190,24 @@ fn expected_listed(count: u32) -> u32 {
 /// run's first call and one after a call that listed none seldom take a second copy.
 const LEAST_LISTED: u32 = 256;
 
-/// What a dispatch's submission read back in one copy: its particles, its counters, the
-/// kernels' timestamps, and the first of the cells it listed with their wear.
+/// What a dispatch's submission read back in one copy: each member's particle slots, the
+/// counters, the kernels' timestamps, and the first of the cells listed with their wear.
 struct ReadBack {
-    bytes: Vec<u8>,
-    /// Where the counters start, end, and where the listed cells start and their wear, bytes.
-    at: [usize; 4],
+    /// Each member's particle slots, in the order of the ranges asked for.
+    slots: Vec<Vec<GpuParticle>>,
+    /// Every counter word.
+    counters: Vec<u32>,
+    /// The first cells listed (as many as were read back).
+    listed: Vec<[u32; 4]>,
+    /// Their wear (none where no target erodes).
+    wear: Vec<[u32; 4]>,
     /// The kernels' GPU times, where they were timed.
     gpu: Option<KernelTimes>,
 }
 
-impl ReadBack {
-    /// The particle slots and the counter words.
-    fn flown(&self) -> (&[GpuParticle], &[u32]) {
-        let [counters, end, ..] = self.at;
-        (bytemuck::cast_slice(&self.bytes[..counters]), bytemuck::cast_slice(&self.bytes[counters..end]))
-    }
-
-    /// The listed cells read back, and their wear (empty where no target erodes).
-    fn listed(&self) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
-        let [.., listed, wear] = self.at;
-        let cells = |b: &[u8]| bytemuck::cast_slice::<u8, [u32; 4]>(b).to_vec();
-        (cells(&self.bytes[listed..wear]), cells(&self.bytes[wear..]))
-    }
-}
-
 /// Records the kernels of a dispatch laid out as `laid` over `epochs` epochs and `cells` cells
-/// (bound as `bind`), submits them, and reads back in one copy its particles, counters and
+/// (bound as `bind`), submits them, and reads back in one copy its particles (those of each
+/// member's range of slots, copied out of the mapped buffer on rayon's workers), counters and
 /// timestamps, with the cells listed up to [`Buffers::listed_guess`] and their wear (where a
 /// target `erodes`: the copies of the wear are cleared once copied, so that a later call's
 /// counters, which may lie there, start at zero).
@@ -219,7 +216,7 @@ fn submit(
     kernels: &Kernels,
     b: &mut Buffers,
     bind: &Groups,
-    (laid, epochs): (&LaidOut, usize),
+    (laid, epochs, member_slots): (&LaidOut, usize, &[std::ops::Range<usize>]),
     (cells, erodes): (u32, bool),
 ) -> Result<ReadBack, GpuError> {
     if b.stamps.is_none() {
@@ -270,15 +267,21 @@ fn submit(
         encoder.clear_buffer(wear, at, Some(wear_bytes));
     }
     gpu.queue.submit([encoder.finish()]);
-    let bytes = read(gpu, &readback, total)?;
-    let gpu_times = match &stamps {
-        Some(s) => {
-            Some(s.times(&bytes[counted as usize..at_listed as usize], gpu.queue.get_timestamp_period())?)
-        }
-        None => None,
-    };
-    let at = [particle_bytes, counted, at_listed, at_listed + listed_bytes].map(|a| a as usize);
-    Ok(ReadBack { bytes, at, gpu: gpu_times })
+    let [counters, stamped, listed, wear] =
+        [particle_bytes, counted, at_listed, at_listed + listed_bytes].map(|a| a as usize);
+    let period = gpu.queue.get_timestamp_period();
+    let (slots, counters, listed, wear, times) = read_with(gpu, &readback, total, |bytes| {
+        let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..counters]);
+        let cells = |b: &[u8]| bytemuck::cast_slice::<u8, [u32; 4]>(b).to_vec();
+        (
+            member_slots.par_iter().map(|r| flown[r.clone()].to_vec()).collect(),
+            bytemuck::cast_slice::<u8, u32>(&bytes[counters..stamped]).to_vec(),
+            cells(&bytes[listed..wear]),
+            cells(&bytes[wear..]),
+            stamps.as_ref().map(|s| s.times(&bytes[stamped..listed], period)),
+        )
+    })?;
+    Ok(ReadBack { slots, counters, listed, wear, gpu: times.transpose()? })
 }
 
 /// Uploads a dispatch laid out as `laid` (its members' layers into their regions of the second
@@ -369,13 +372,13 @@ fn bind_group(gpu: &Gpu, kernels: &Kernels, b: &Buffers, params: &wgpu::Buffer) 
     ))
 }
 
-/// Each member's part of what a dispatch read back: its particles (of `flown`), its counter block
-/// (of `words`), and the cells it listed (of `listed`, with their `wear`), counted over its
-/// own grids.
+/// Each member's part of what a dispatch read back: its particles (`slots`, one set a member),
+/// its counter block (of `words`), and the cells it listed (of `listed`, with their `wear`),
+/// counted over its own grids.
 fn split(
     members: &[MemberCall],
     places: &[Place],
-    (flown, words): (&[GpuParticle], &[u32]),
+    (slots, words): (Vec<Vec<GpuParticle>>, &[u32]),
     (listed, wear): (&[[u32; 4]], &[[u32; 4]]),
 ) -> Vec<Raw> {
     // The listed cells in cell order: each member's are one run of them.
@@ -385,12 +388,13 @@ fn split(
     members
         .iter()
         .zip(places)
-        .map(|(m, place)| {
+        .zip(slots)
+        .map(|((m, place), slots)| {
             let (first, end) = (m.cell, m.cell + m.scene.cells);
             let own = &order[from(first)..from(end)];
-            let (slot, counter) = (place.slot as usize, place.counters as usize);
+            let counter = place.counters as usize;
             Raw {
-                slots: flown[slot..slot + m.particles()].to_vec(),
+                slots,
                 counters: words[counter..counter + m.counters.len()].to_vec(),
                 listed: own
                     .iter()
@@ -503,6 +507,17 @@ fn copy_out(
 
 /// Waits for the queue and copies the first `bytes` of `readback` out.
 fn read(gpu: &Gpu, readback: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuError> {
+    read_with(gpu, readback, bytes, <[u8]>::to_vec)
+}
+
+/// Waits for the queue, and hands the first `bytes` of `readback`, mapped, to `take`: what it
+/// copies out is copied once.
+fn read_with<T>(
+    gpu: &Gpu,
+    readback: &wgpu::Buffer,
+    bytes: u64,
+    take: impl FnOnce(&[u8]) -> T,
+) -> Result<T, GpuError> {
     let slice = readback.slice(..bytes);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -513,7 +528,7 @@ fn read(gpu: &Gpu, readback: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuEr
         .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(Duration::from_secs(600)) })
         .map_err(|e| err(&e))?;
     rx.recv().map_err(|e| err(&e))?.map_err(|e| err(&e))?;
-    let out = slice.get_mapped_range().map_err(|e| GpuError::Readback(format!("{e:?}")))?.to_vec();
+    let out = take(&slice.get_mapped_range().map_err(|e| GpuError::Readback(format!("{e:?}")))?);
     readback.unmap();
     Ok(out)
 }

@@ -101,8 +101,11 @@ const RECTANGLE: u32 = 0u;
 const SHELL: u32 = 1u;
 // Words of one erosion law.
 const LAW_WORDS: u32 = 8u;
-// Shape words.
-const SHAPE_WORDS: u32 = 16u;
+// Shape words: its kind, its obstacle, its geometry (words 2 to 15), then its bounding box from
+// word 16 (BOX_WORDS: lower corner and a spare, upper corner and a spare, m; ±f32's largest
+// where unbounded). The member's shapes' table begins with the box around all of them.
+const SHAPE_WORDS: u32 = 24u;
+const BOX_WORDS: u32 = 8u;
 
 // Counters: [0] the cells listed (of all members), three spare words, then each member's from
 // its `place.w`: [0, 1] particle-steps (low, high), two spare words, then its fates (slots of
@@ -732,12 +735,17 @@ fn target_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     }
     let c = v3(at);
     let n = v3(at + 3u);
-    let hw = f(at + 12u);
-    let hh = f(at + 13u);
-    let first = first_cell(at);
     let top = band(t);
     let h0 = dot(p0 - c, n);
     let h1 = dot(p1 - c, n);
+    // Neither into the band from the front nor onto the back (the cases below): most steps,
+    // which need read nothing more of the target.
+    if (!(h0 > 0.0 && min(h0, h1) <= top) && !(h0 < 0.0 && h1 >= 0.0)) {
+        return no_hit();
+    }
+    let hw = f(at + 12u);
+    let hh = f(at + 13u);
+    let first = first_cell(at);
     let d = p1 - p0;
     var own = 0.0;
     let uv0 = face_uv(at, p0);
@@ -950,6 +958,14 @@ fn shell_hit(t: u32, p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     return Hit(b + (1.0 - b) * rest.t, rest.point, rest.normal, t, rest.cell);
 }
 
+// Whether the box at `at` (BOX_WORDS) overlaps the one from `lo` to `hi` (touching counts).
+fn overlaps(at: u32, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    return all(lo <= v3(at + 4u)) && all(v3(at) <= hi);
+}
+
+// The segment's first hit of all the member's surfaces: every target's, and the shapes' whose
+// bounding box its own overlaps (a shape outside it cannot be met; most steps are far from all
+// of them, and skip them with one test of the box around them all).
 fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
     var best = no_hit();
     for (var t = 0u; t < M.sizes.x; t++) {
@@ -958,8 +974,17 @@ fn first_hit(p0: vec3<f32>, p1: vec3<f32>) -> Hit {
             best = h;
         }
     }
+    let lo = min(p0, p1);
+    let hi = max(p0, p1);
+    if (!overlaps(M.tables.z, lo, hi)) {
+        return best;
+    }
     for (var k = 0u; k < M.sizes.y; k++) {
-        let h = shape_hit(M.tables.z + SHAPE_WORDS * k, p0, p1);
+        let at = M.tables.z + BOX_WORDS + SHAPE_WORDS * k;
+        if (!overlaps(at + 16u, lo, hi)) {
+            continue;
+        }
+        let h = shape_hit(at, p0, p1);
         if (h.t < best.t) {
             best = h;
         }
@@ -989,6 +1014,28 @@ fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
     let col = i32(cell) % cols;
     var sum = 0.0;
     var n = 0.0;
+    if (stride == 1 && scene[at + 24u] == 0u && scene[at + 31u] == 0u) {
+        // No holes, no wrap, every cell: a row's cells in the disc are those within `half`
+        // columns of the struck one (the test below is monotone in the offset), summed as one
+        // span (`span_sum`) without a test per cell, in the same order and so to the same bits.
+        for (var j = -ry; j <= ry; j++) {
+            let r = row + j;
+            let y = f32(j) * dy;
+            var half = rx;
+            while (half >= 0 && (f32(half) * dx) * (f32(half) * dx) + y * y > radius * radius) {
+                half--;
+            }
+            if (r < 0 || r >= rows || half < 0) {
+                continue;
+            }
+            let start = first + u32(r * cols);
+            let lo = start + u32(max(col - half, 0));
+            let last = start + u32(min(col + half, cols - 1));
+            sum = span_sum(sum, lo, last);
+            n += f32(last - lo + 1u);
+        }
+        return sum / max(n, 1.0);
+    }
     for (var j = -ry; j <= ry; j += stride) {
         let r = row + j;
         if (r < 0 || r >= rows) {
@@ -1006,6 +1053,30 @@ fn cushion(t: u32, cell: u32, radius: f32) -> f32 {
         }
     }
     return sum / max(n, 1.0);
+}
+
+// `sum` plus the layers' thicknesses from cell `first` to cell `last` (over all grids), added
+// one by one in that order. Eight cells are read at a time, all before any is added: an impact
+// waits on its reads once per eight cells, not once per cell (on a GPU, the cushion's reads one
+// after the other set the length of an epoch, which lasts as long as its slowest particle).
+fn span_sum(sum: f32, first: u32, last: u32) -> f32 {
+    var s = sum;
+    for (var c = first; c <= last; c += 8u) {
+        let a = vec4<f32>(thickness[c], thickness[min(c + 1u, last)], thickness[min(c + 2u, last)],
+            thickness[min(c + 3u, last)]);
+        let b = vec4<f32>(thickness[min(c + 4u, last)], thickness[min(c + 5u, last)],
+            thickness[min(c + 6u, last)], thickness[min(c + 7u, last)]);
+        let left = last - c;
+        s += a.x;
+        if (left >= 1u) { s += a.y; }
+        if (left >= 2u) { s += a.z; }
+        if (left >= 3u) { s += a.w; }
+        if (left >= 4u) { s += b.x; }
+        if (left >= 5u) { s += b.y; }
+        if (left >= 6u) { s += b.z; }
+        if (left >= 7u) { s += b.w; }
+    }
+    return s;
 }
 
 // Σ cᵢ xⁱ with x = θ / 90°, clamped to [0, 1], from n coefficients at `at`.

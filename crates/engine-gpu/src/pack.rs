@@ -3,9 +3,10 @@
 //! lies in a dispatch), its own table of words for the impact models, targets, shapes and
 //! released volumes, the layers' thicknesses, and the particles.
 
+use crate::bounds::{box_words, shapes_box};
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
-use spraysim_engine::collision::{Face, Shape};
+use spraysim_engine::collision::{Face, Primitive, Shape};
 use spraysim_engine::config::ErosionConfig;
 use spraysim_engine::deposit::{Chart, CylinderSurface, DepositSurface, GridSurface, Surface, WEAR_QUANTUM};
 use spraysim_engine::motion::Integrator;
@@ -20,8 +21,9 @@ pub const MODEL_WORDS: usize = 64;
 pub const TARGET_WORDS: usize = 32;
 /// A target's kind (word 29) when it is a cylindrical shell (0: a rectangle).
 const SHELL: u32 = 1;
-/// Words of one obstacle shape.
-pub const SHAPE_WORDS: usize = 16;
+/// Words of one obstacle shape: its kind, its obstacle, its geometry (words 2 to 15), then its
+/// bounding box ([`crate::bounds::BOX_WORDS`]) from word 16.
+pub const SHAPE_WORDS: usize = 24;
 /// A member's counter words before its per-target slots: particle-steps, two spare words, then
 /// 7 fates of 4 words.
 pub const TALLY_WORDS: usize = 4 + 4 * 7;
@@ -128,7 +130,8 @@ impl GpuParticle {
 pub struct SceneWords {
     /// Every table, one after the other: the impact models first.
     pub words: Vec<u32>,
-    /// Word offsets of the targets, the shapes and the released table.
+    /// Word offsets of the targets, the shapes' table (the box around them all, then the
+    /// shapes) and the released table.
     pub tables: [u32; 3],
     /// Obstacle shapes.
     pub shapes: u32,
@@ -236,6 +239,7 @@ fn shell_words(w: &mut [u32], at: usize, c: &CylinderSurface) {
 fn shape_words(s: &Shape, owner: usize) -> [u32; SHAPE_WORDS] {
     let mut w = [0u32; SHAPE_WORDS];
     w[1] = owner as u32;
+    w[16..].copy_from_slice(&box_words(s.aabb()));
     match s {
         Shape::Plane(p) => {
             w[0] = 0;
@@ -384,6 +388,7 @@ pub fn scene_words(job: &FlightJob<'_>) -> SceneWords {
         cells += field.thickness().len() as u32;
     }
     let shapes_at = words.len();
+    words.extend_from_slice(&shapes_box(config.obstacles.iter().flat_map(|o| &o.shapes)));
     let mut shapes = 0u32;
     for (o, obstacle) in config.obstacles.iter().enumerate() {
         for s in &obstacle.shapes {
