@@ -273,8 +273,17 @@ fn submit(
     let (slots, counters, listed, wear, times) = read_with(gpu, &readback, total, |bytes| {
         let flown: &[GpuParticle] = bytemuck::cast_slice(&bytes[..counters]);
         let cells = |b: &[u8]| bytemuck::cast_slice::<u8, [u32; 4]>(b).to_vec();
+        // A single run's call copies on its own thread: its caller holds the stage's lock, and
+        // a rayon worker waiting on other workers could take up another simulation's call, which
+        // would wait for that lock on the same thread (see `GpuFlight::dispatch_one`). A batch's
+        // dispatch runs on a thread of its own, outside rayon's pool, which only waits.
+        let copy = |r: &std::ops::Range<usize>| flown[r.clone()].to_vec();
         (
-            member_slots.par_iter().map(|r| flown[r.clone()].to_vec()).collect(),
+            if member_slots.len() > 1 {
+                member_slots.par_iter().map(copy).collect()
+            } else {
+                member_slots.iter().map(copy).collect()
+            },
             bytemuck::cast_slice::<u8, u32>(&bytes[counters..stamped]).to_vec(),
             cells(&bytes[listed..wear]),
             cells(&bytes[wear..]),

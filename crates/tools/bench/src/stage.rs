@@ -70,9 +70,9 @@ impl FlightStage for Timed {
 }
 
 /// How long the stage is kept busy before the reference scene's rows on it, s: a GPU idles at a
-/// fraction of its clock and raises it only under sustained load (an H200 reads 345 MHz idle,
-/// against about 1 980 under load), so a run straight after the CPU's row would be timed at a
-/// clock that a loop of runs does not see.
+/// fraction of its clock (an H200 reads 345 MHz idle) and raises it under sustained load, which
+/// a run straight after the CPU's row has not had. (On an H200 it did not remove all of it: see
+/// docs/performance.md.)
 const BUSY_BEFORE: f64 = 2.0;
 
 /// Runs `scenario` on `threads` threads and `stage` over and over for `seconds` (at least
