@@ -32,15 +32,8 @@ pub fn box_words(aabb: Option<Aabb>) -> [u32; BOX_WORDS] {
 /// The box round every bounded shape of `shapes`: every path overlaps it where one is unbounded,
 /// none where there is no shape (its lower corner above its upper one).
 pub fn shapes_box<'a>(shapes: impl Iterator<Item = &'a Shape>) -> [u32; BOX_WORDS] {
-    let mut all: Option<Option<Aabb>> = None;
-    for s in shapes {
-        let b = s.aabb();
-        all = Some(match all {
-            None => b,
-            Some(a) => a.zip(b).map(|(a, b)| a.union(b)),
-        });
-    }
-    match all {
+    // `None` for no shape; `Some(None)` once one is unbounded.
+    match shapes.map(Primitive::aabb).reduce(|a, b| a.zip(b).map(|(a, b)| a.union(b))) {
         Some(b) => box_words(b),
         None => corners(DVec3::splat(f64::from(f32::MAX)), DVec3::splat(-f64::from(f32::MAX))),
     }
